@@ -1,0 +1,5 @@
+include!("../build-support/memory_x.rs");
+
+fn main() {
+    link_memory_x();
+}
