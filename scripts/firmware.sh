@@ -8,7 +8,7 @@ tdir=${CARGO_TARGET_DIR:-$root/target}
 out=$root/target/firmware
 mkdir -p "$out"
 cargo +nightly build --target avr-none -Zbuild-std=core --profile avr \
-  -p master -p slave -p firmware-examples "$@"
+  -p master -p slave -p firmware-examples -p drivers "$@"
 for elf in "$tdir"/avr-none/avr/*.elf; do
   cp "$elf" "$out/"
 done

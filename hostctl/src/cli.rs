@@ -1,0 +1,54 @@
+//! The command line: global options and one variant per subcommand.
+
+use clap::{Parser, Subcommand};
+
+use crate::cmd;
+
+/// Talk to the Blodwen rover (or its twin) over the master's serial link.
+///
+/// Devices: 0 is the master, 1..9 the controllers (DS drive/steer boards
+/// 1, 2, 4, 5, 7, 8; LL lift boards 3, 6, 9). Registers are named as in
+/// docs/registers.md (case-insensitive, with or without the REG…_ prefix) or
+/// given by number. Values are in engineering units.
+#[derive(Debug, Parser)]
+#[command(name = "hostctl", version)]
+pub struct Cli {
+    /// Serial device of the master, or the twin's pty [default: $BLODWEN_PORT].
+    #[arg(long, global = true, value_name = "PATH")]
+    pub port: Option<String>,
+
+    /// Print one JSON object per line instead of text for people.
+    #[arg(long, global = true)]
+    pub json: bool,
+
+    /// Milliseconds to wait after the master's `Ready` before the first frame,
+    /// while the slaves it has just reset reboot.
+    #[arg(long, global = true, value_name = "MS", default_value_t = 2000)]
+    pub settle_ms: u64,
+
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands, one file each under `cmd/`.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Write one register: VALUE (engineering units) is mapped to its raw
+    /// value and sent as one write frame; the master must answer 00.
+    Write(cmd::write::Args),
+
+    /// Read one register: configures read set 7 (reserved for hostctl's
+    /// one-off reads) with that register, reads it and prints the value in
+    /// units and raw.
+    Read(cmd::read::Args),
+
+    /// Configure a read set (0..7) with up to 24 registers; the master must
+    /// answer with the count.
+    Readset(cmd::readset::Args),
+
+    /// Poll a read set and show a table that refreshes in place (JSON lines
+    /// with --json). Sets 0, 1 and 2 have standard contents when no
+    /// registers are named.
+    Watch(cmd::watch::Args),
+}

@@ -1,0 +1,107 @@
+//! The subcommands, one file each, and the two exchanges they share:
+//! configuring a read set and reading one.
+
+pub mod read;
+pub mod readset;
+pub mod watch;
+pub mod write;
+
+use heapless::Vec as HVec;
+use shared::protocol::{self, EncodeError, FrameError};
+use shared::regs::Register;
+
+use crate::error::HostError;
+use crate::link::Link;
+use crate::port::Port;
+use crate::resolve::Target;
+
+/// A frame as the codec builds it.
+pub type Frame = HVec<u8, { protocol::MAX_FRAME }>;
+
+/// The words for a reply byte that is an error code, with a leading "; ".
+fn code_words(code: u8) -> String {
+    match FrameError::from_code(code) {
+        Some(e) => format!("; {}", e.describe()),
+        None => String::new(),
+    }
+}
+
+/// Builds the set-read-set frame for `regs`.
+pub fn set_frame(target: Target, set: u8, regs: &[&Register]) -> Result<Frame, HostError> {
+    let ids: Vec<u8> = regs.iter().map(|r| r.id).collect();
+    let mut frame = Frame::new();
+    protocol::encode_set_read_set(target.device, set, &ids, &mut frame)?;
+    Ok(frame)
+}
+
+/// Sends a set-read-set frame and checks the count reply.
+pub fn configure<P: Port>(
+    link: &mut Link<P>,
+    target: Target,
+    set: u8,
+    frame: &[u8],
+    count: usize,
+) -> Result<(), HostError> {
+    let reply = link.transact(target.device, frame, 1)?;
+    let got = reply.first().copied().unwrap_or_default();
+    if usize::from(got) != count {
+        return Err(HostError::ReadSetRejected {
+            device: target.device,
+            set,
+            expected: count,
+            got,
+            words: code_words(got),
+        });
+    }
+    Ok(())
+}
+
+/// A planned read of one set from one device.
+#[derive(Debug, Clone)]
+pub struct SetRead {
+    /// Who is read.
+    pub target: Target,
+    /// The registers of the set, in order.
+    pub regs: Vec<&'static Register>,
+    /// The read frame.
+    pub frame: [u8; 3],
+    /// Reply length per the device's table.
+    pub reply_len: usize,
+}
+
+impl SetRead {
+    /// Plans reading `set` (holding `regs`) from `target`.
+    pub fn new(target: Target, set: u8, regs: Vec<&'static Register>) -> Result<Self, HostError> {
+        let ids: Vec<u8> = regs.iter().map(|r| r.id).collect();
+        // Every register was resolved on the target's table; an id missing
+        // from it is a bug, reported as the codec would.
+        let reply_len = protocol::read_reply_len(target.kind, &ids).ok_or_else(|| {
+            let id = ids
+                .iter()
+                .copied()
+                .find(|&id| target.kind.register(id).is_none())
+                .unwrap_or_default();
+            HostError::Encode(EncodeError::UnknownRegister(id))
+        })?;
+        Ok(Self {
+            target,
+            regs,
+            frame: protocol::encode_read(target.device, set),
+            reply_len,
+        })
+    }
+
+    /// Sends the read and decodes the reply into raw values, in set order.
+    pub fn run<P: Port>(&self, link: &mut Link<P>) -> Result<Vec<u16>, HostError> {
+        let reply = link.transact(self.target.device, &self.frame, self.reply_len)?;
+        let ids: Vec<u8> = self.regs.iter().map(|r| r.id).collect();
+        let mut values: HVec<(u8, u16), { protocol::READ_SET_SIZE }> = HVec::new();
+        protocol::decode_read_reply(self.target.kind, &ids, &reply, &mut values).map_err(
+            |source| HostError::Decode {
+                device: self.target.device,
+                source,
+            },
+        )?;
+        Ok(values.iter().map(|&(_, raw)| raw).collect())
+    }
+}

@@ -1,0 +1,300 @@
+//! `hostctl watch --readset N [--device D] [--count K] [--interval-ms MS] [REG...]`:
+//! poll a read set and show it live.
+//!
+//! With registers named, set N is (re)configured with them first. Without,
+//! sets 0, 1 and 2 get the contents the original PC library gives them
+//! (reference §4.3) and any other set is refused. The default devices are
+//! all DS boards for set 0, all LL boards for set 1 and the master otherwise.
+
+use std::time::Duration;
+
+use shared::mapping;
+use shared::regs::{BoardKind, Register};
+
+use super::{Frame, SetRead};
+use crate::error::HostError;
+use crate::json;
+use crate::link::Link;
+use crate::port::Port;
+use crate::resolve::{self, Target};
+use crate::table::Table;
+
+/// Arguments of `watch`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Read set to poll, 0..7.
+    #[arg(long, value_name = "N")]
+    pub readset: String,
+    /// Poll only this device [default: DS boards for set 0, LL boards for set 1, else the master].
+    #[arg(long, value_name = "D")]
+    pub device: Option<String>,
+    /// Stop after this many rounds [default: run until interrupted].
+    #[arg(long, value_name = "K")]
+    pub count: Option<u64>,
+    /// Pause between rounds, in milliseconds.
+    #[arg(long, value_name = "MS", default_value_t = 500)]
+    pub interval_ms: u64,
+    /// Registers to put in the set first (names or numbers, at most 24).
+    #[arg(value_name = "REG")]
+    pub registers: Vec<String>,
+}
+
+/// A standard read set of the original PC library: its board kind and ids.
+struct Standard {
+    kind: BoardKind,
+    ids: &'static [u8],
+}
+
+/// The original PC library's read sets 0, 1 and 2 (reference §4.3).
+fn standard(set: u8) -> Option<Standard> {
+    use shared::regs::id::*;
+    match set {
+        0 => Some(Standard {
+            kind: BoardKind::DriveSteer,
+            ids: &[
+                REG_TIMER,
+                REG_INTERVALI2C,
+                REG_STATUS,
+                REG_EXCEPTIONDATA,
+                REGDS_CHASSIS,
+                REGDS_DRIVE_ACTUALSPEED,
+                REGDS_DRIVE_ERROR,
+                REGDS_DRIVE_ERRORINTEGRAL,
+                REGDS_DRIVE_ERRORDERIV,
+                REGDS_DRIVE_CONTROL,
+                REGDS_DRIVE_INTERVALCTRL,
+                REGDS_DRIVE_CURRENT,
+                REGDS_DRIVE_ODO,
+                REGDS_STEER_ACTUALPOS,
+                REGDS_STEER_ERROR,
+                REGDS_STEER_ERRORINTEGRAL,
+                REGDS_STEER_ERRORDERIV,
+                REGDS_STEER_CONTROL,
+                REGDS_STEER_INTERVALCTRL,
+                REGDS_STEER_CURRENT,
+            ],
+        }),
+        1 => Some(Standard {
+            kind: BoardKind::LiftLift,
+            ids: &[
+                REG_TIMER,
+                REG_INTERVALI2C,
+                REG_STATUS,
+                REG_EXCEPTIONDATA,
+                REGLL_ONE_ACTUALPOS,
+                REGLL_ONE_ERROR,
+                REGLL_ONE_ERRORINTEGRAL,
+                REGLL_ONE_ERRORDERIV,
+                REGLL_ONE_CONTROL,
+                REGLL_ONE_INTERVALCTRL,
+                REGLL_ONE_CURRENT,
+                REGLL_TWO_ACTUALPOS,
+                REGLL_TWO_ERROR,
+                REGLL_TWO_ERRORINTEGRAL,
+                REGLL_TWO_ERRORDERIV,
+                REGLL_TWO_CONTROL,
+                REGLL_TWO_INTERVALCTRL,
+                REGLL_TWO_CURRENT,
+            ],
+        }),
+        2 => Some(Standard {
+            kind: BoardKind::Master,
+            ids: &[
+                REGMASTER_TEMPAMBIENT,
+                REGMASTER_TEMP1,
+                REGMASTER_TEMP2,
+                REGMASTER_TEMP3,
+                REGMASTER_TEMP4,
+                REGMASTER_TEMP5,
+                REGMASTER_TEMP6,
+                REGMASTER_TEMP7,
+                REGMASTER_TEMP8,
+                REGMASTER_TEMP9,
+                REGMASTER_EXCEPTIONDATA,
+            ],
+        }),
+        _ => None,
+    }
+}
+
+/// The devices polled when `--device` is not given.
+fn default_devices(set: u8) -> Vec<u8> {
+    let kind = match set {
+        0 => BoardKind::DriveSteer,
+        1 => BoardKind::LiftLift,
+        _ => BoardKind::Master,
+    };
+    (0..=shared::protocol::MAX_DEVICE)
+        .filter(|&d| BoardKind::of_device(d) == Some(kind))
+        .collect()
+}
+
+/// A checked watch, ready to run.
+#[derive(Debug)]
+pub struct Plan {
+    /// The set polled.
+    pub set: u8,
+    /// The configuring frame, sent once before polling (via the first device).
+    pub set_frame: Frame,
+    /// One read per device, in row order.
+    pub reads: Vec<SetRead>,
+    /// Rounds to run, or `None` for no limit.
+    pub count: Option<u64>,
+    /// Pause between rounds.
+    pub interval: Duration,
+}
+
+/// Checks the arguments and builds the frames; nothing is sent.
+pub fn plan(args: &Args) -> Result<Plan, HostError> {
+    let set = resolve::set(&args.readset)?;
+    let targets: Vec<Target> = match &args.device {
+        Some(text) => vec![resolve::device(text)?],
+        None => default_devices(set)
+            .into_iter()
+            .filter_map(Target::of)
+            .collect(),
+    };
+    let mut reads = Vec::new();
+    for &target in &targets {
+        let regs = if args.registers.is_empty() {
+            standard_regs(set, target)?
+        } else {
+            resolve::read_set(target, &args.registers)?
+        };
+        reads.push(SetRead::new(target, set, regs)?);
+    }
+    let first = reads.first().ok_or(HostError::NoStandardSet { set })?;
+    let set_frame = super::set_frame(first.target, set, &first.regs)?;
+    Ok(Plan {
+        set,
+        set_frame,
+        reads,
+        count: args.count,
+        interval: Duration::from_millis(args.interval_ms),
+    })
+}
+
+/// The standard contents of `set`, looked up on `target`'s table.
+fn standard_regs(set: u8, target: Target) -> Result<Vec<&'static Register>, HostError> {
+    let std = standard(set).ok_or(HostError::NoStandardSet { set })?;
+    if std.kind != target.kind {
+        return Err(HostError::StandardSetMismatch {
+            set,
+            wanted: std.kind.name(),
+            device: target.device,
+            board: target.board(),
+            devices: resolve::devices_of(std.kind),
+        });
+    }
+    std.ids
+        .iter()
+        .map(|&id| resolve::register(target, &id.to_string()))
+        .collect()
+}
+
+/// One device's values in one round.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// The device read.
+    pub target: Target,
+    /// Its registers and raw values, in set order.
+    pub values: Vec<(&'static Register, u16)>,
+}
+
+/// One poll of every device.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Round {
+    /// 1 for the first round.
+    pub number: u64,
+    /// The set polled.
+    pub set: u8,
+    /// One row per device.
+    pub rows: Vec<Row>,
+}
+
+/// Configures the set, then polls it, handing each round to `on_round`.
+pub fn run<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    on_round: &mut dyn FnMut(&Round) -> Result<(), HostError>,
+) -> Result<(), HostError> {
+    if let Some(first) = plan.reads.first() {
+        super::configure(
+            link,
+            first.target,
+            plan.set,
+            &plan.set_frame,
+            first.regs.len(),
+        )?;
+    }
+    let mut number = 0;
+    while plan.count.is_none_or(|k| number < k) {
+        if number > 0 {
+            std::thread::sleep(plan.interval);
+        }
+        number += 1;
+        let mut rows = Vec::with_capacity(plan.reads.len());
+        for read in &plan.reads {
+            let raws = read.run(link)?;
+            rows.push(Row {
+                target: read.target,
+                values: read.regs.iter().copied().zip(raws).collect(),
+            });
+        }
+        on_round(&Round {
+            number,
+            set: plan.set,
+            rows,
+        })?;
+    }
+    Ok(())
+}
+
+/// The round as lines for people: a title, then a table with one row per
+/// device and a column per register (name over unit).
+pub fn table_lines(round: &Round) -> Vec<String> {
+    let mut table = Table::default();
+    if let Some(first) = round.rows.first() {
+        let mut names = vec!["dev".to_owned()];
+        let mut units = vec![String::new()];
+        for (reg, _) in &first.values {
+            names.push(reg.short_name().to_owned());
+            units.push(reg.unit.to_owned());
+        }
+        table.headers = vec![names, units];
+    }
+    for row in &round.rows {
+        let mut cells = vec![row.target.device.to_string()];
+        cells.extend(row.values.iter().map(|&(reg, raw)| resolve::show(reg, raw)));
+        table.rows.push(cells);
+    }
+    let mut lines = vec![format!("read set {}, round {}", round.set, round.number)];
+    lines.extend(table.lines());
+    lines
+}
+
+/// The round as JSON lines: one object per device.
+pub fn json_lines(round: &Round) -> Vec<String> {
+    round
+        .rows
+        .iter()
+        .map(|row| {
+            let values = json::array(row.values.iter().map(|&(reg, raw)| {
+                json::Object::new()
+                    .int("id", reg.id)
+                    .str("register", reg.name)
+                    .int("raw", raw)
+                    .num("value", mapping::unmap(raw, reg))
+                    .str("unit", reg.unit)
+                    .finish()
+            }));
+            json::Object::new()
+                .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
+                .int("set", round.set)
+                .int("device", row.target.device)
+                .str("board", row.target.board())
+                .raw("values", &values)
+                .finish()
+        })
+        .collect()
+}

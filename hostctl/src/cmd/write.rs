@@ -1,0 +1,108 @@
+//! `hostctl write DEV REG VALUE`: one register, one write frame.
+
+use shared::mapping;
+use shared::protocol::{self, FrameError, Write};
+use shared::regs::Register;
+
+use super::Frame;
+use crate::error::HostError;
+use crate::json;
+use crate::link::Link;
+use crate::port::Port;
+use crate::resolve::{self, Target};
+
+/// Arguments of `write`.
+#[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
+pub struct Args {
+    /// Device: 0 = master, 1..9 = controllers.
+    pub device: String,
+    /// Register name (e.g. REGDS_DRIVE_REQSPEED or drive_reqspeed) or number.
+    pub register: String,
+    /// Value in the register's engineering units, e.g. 1000 (ticks/s) or -40 (°).
+    pub value: String,
+}
+
+/// A checked write, ready to send.
+#[derive(Debug)]
+pub struct Plan {
+    /// Who is written.
+    pub target: Target,
+    /// The register.
+    pub reg: &'static Register,
+    /// The value asked for.
+    pub value: f32,
+    /// Its raw form.
+    pub raw: u16,
+    /// The frame.
+    pub frame: Frame,
+}
+
+/// Checks the arguments and builds the frame; nothing is sent.
+pub fn plan(args: &Args) -> Result<Plan, HostError> {
+    let target = resolve::device(&args.device)?;
+    let reg = resolve::register(target, &args.register)?;
+    if !reg.writable {
+        return Err(HostError::ReadOnly {
+            register: reg.name,
+            device: target.device,
+        });
+    }
+    let (value, raw) = resolve::value(target, reg, &args.value)?;
+    let mut frame = Frame::new();
+    protocol::encode_write(target.device, &[Write { id: reg.id, raw }], &mut frame)?;
+    Ok(Plan {
+        target,
+        reg,
+        value,
+        raw,
+        frame,
+    })
+}
+
+/// Sends the write, checks the 00 reply and returns the report.
+pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<String, HostError> {
+    let reply = link.transact(plan.target.device, &plan.frame, 1)?;
+    let code = reply.first().copied().unwrap_or_default();
+    if code != 0 {
+        return Err(HostError::WriteRefused {
+            device: plan.target.device,
+            register: plan.reg.name,
+            code,
+            words: FrameError::from_code(code)
+                .map(|e| e.describe().to_string())
+                .unwrap_or_else(|| "not a known error code".to_owned()),
+        });
+    }
+    Ok(report(plan, json))
+}
+
+/// What was written: the value asked for, the raw value and what the device
+/// makes of it.
+fn report(plan: &Plan, json: bool) -> String {
+    let applied = mapping::unmap(plan.raw, plan.reg);
+    if json {
+        return json::Object::new()
+            .str("command", "write")
+            .int("device", plan.target.device)
+            .str("board", plan.target.board())
+            .int("id", plan.reg.id)
+            .str("register", plan.reg.name)
+            .num("value", plan.value)
+            .int("raw", plan.raw)
+            .num("applied", applied)
+            .str("unit", plan.reg.unit)
+            .finish();
+    }
+    format!(
+        "device {} {} = {}{} (raw 0x{:0width$x}, arrives as {}{})",
+        plan.target.device,
+        plan.reg.name,
+        plan.value,
+        resolve::unit_suffix(plan.reg),
+        plan.raw,
+        resolve::show(plan.reg, plan.raw),
+        resolve::unit_suffix(plan.reg),
+        width = usize::from(plan.reg.size) * 2,
+    )
+}

@@ -1,0 +1,210 @@
+//! Everything that can go wrong in `hostctl`, each with the next step.
+
+use std::io;
+
+use shared::protocol::{DecodeError, EncodeError};
+
+/// One `hostctl` failure. Every message names what was wrong and how to fix
+/// it; bad input is caught before anything is sent.
+#[derive(Debug, thiserror::Error)]
+pub enum HostError {
+    /// The device number is not 0 (master) or 1..9 (controllers).
+    #[error("device `{given}` does not exist: use 0 for the master or 1..9 for a controller (DS: 1, 2, 4, 5, 7, 8; LL: 3, 6, 9)")]
+    BadDevice {
+        /// The text given on the command line.
+        given: String,
+    },
+
+    /// No register of that name is on the device's table.
+    #[error("device {device} ({board} table) has no register named `{name}`{hint}")]
+    UnknownRegister {
+        /// The name given.
+        name: String,
+        /// The device addressed.
+        device: u8,
+        /// The device's table name.
+        board: &'static str,
+        /// Either close names (", did you mean …?") or a pointer to the table list.
+        hint: String,
+    },
+
+    /// The register exists, but on another kind of board.
+    #[error("register `{name}` is on the {other} table, not on device {device} ({board}); address one of devices {devices} instead (readset and watch: --device)")]
+    WrongBoard {
+        /// The name given.
+        name: String,
+        /// The device addressed.
+        device: u8,
+        /// The device's table name.
+        board: &'static str,
+        /// The table that has the register.
+        other: &'static str,
+        /// The devices that use that table.
+        devices: String,
+    },
+
+    /// A register number beyond the device's table.
+    #[error("device {device} ({board} table) has registers 0..{last}; there is no register {id}")]
+    NoSuchId {
+        /// The id given.
+        id: u32,
+        /// The device addressed.
+        device: u8,
+        /// The device's table name.
+        board: &'static str,
+        /// The highest id on that table.
+        last: u8,
+    },
+
+    /// The value is not a number.
+    #[error("`{given}` is not a number: give the value in engineering units, e.g. 1000 or -40.5")]
+    BadValue {
+        /// The text given.
+        given: String,
+    },
+
+    /// The value is outside what the register can carry.
+    #[error(
+        "{value} is out of range for {register} on device {device}: allowed {min}..{max}{unit}"
+    )]
+    OutOfRange {
+        /// The value given.
+        value: f32,
+        /// The register's name.
+        register: &'static str,
+        /// The device addressed.
+        device: u8,
+        /// Lowest allowed value.
+        min: f32,
+        /// Highest allowed value.
+        max: f32,
+        /// The unit, with a leading space, or empty.
+        unit: String,
+    },
+
+    /// The register cannot be written.
+    #[error("{register} on device {device} is read-only; use `hostctl read {device} {register}` to see it")]
+    ReadOnly {
+        /// The register's name.
+        register: &'static str,
+        /// The device addressed.
+        device: u8,
+    },
+
+    /// The read-set index is not 0..7.
+    #[error(
+        "read set `{given}` does not exist: sets are 0..7 (hostctl's one-off reads use set 7)"
+    )]
+    BadSet {
+        /// The text given.
+        given: String,
+    },
+
+    /// More registers than a read set holds.
+    #[error("{count} registers given, but a read set holds at most 24; split them over two sets")]
+    TooManyRegisters {
+        /// How many were given.
+        count: usize,
+    },
+
+    /// `watch` of a set that has no standard contents, without registers.
+    #[error("read set {set} has no standard contents (only sets 0, 1 and 2 do); name the registers to watch after the options")]
+    NoStandardSet {
+        /// The set asked for.
+        set: u8,
+    },
+
+    /// `watch` of a standard set on a device of the wrong kind.
+    #[error("read set {set}'s standard contents are for {wanted} boards, but device {device} is {board}; pick one of devices {devices} or name the registers")]
+    StandardSetMismatch {
+        /// The set asked for.
+        set: u8,
+        /// The board kind the set is made for.
+        wanted: &'static str,
+        /// The device asked for.
+        device: u8,
+        /// That device's board kind.
+        board: &'static str,
+        /// The devices that fit.
+        devices: String,
+    },
+
+    /// Neither `--port` nor `BLODWEN_PORT` says where the rover is.
+    #[error("no serial port given: pass --port PATH (e.g. /dev/ttyACM0 or the twin's pty), set BLODWEN_PORT, or start the twin")]
+    NoPort,
+
+    /// The serial device could not be opened.
+    #[error("cannot open {path}: {source}; is the rover/twin running? is {path} right?")]
+    Open {
+        /// The path given.
+        path: String,
+        /// What the operating system said.
+        source: serialport::Error,
+    },
+
+    /// The master never said `Ready`.
+    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right?")]
+    NoBanner {
+        /// The port.
+        path: String,
+        /// What was seen instead.
+        why: String,
+    },
+
+    /// Reading or writing the port failed.
+    #[error("serial I/O failed: {0}; check the cable or restart the twin")]
+    Io(#[from] io::Error),
+
+    /// The reply did not arrive in time.
+    #[error("device {device} did not answer within 1 s ({got} of {expected} reply bytes); check the device number, reset the rover, or restart the twin")]
+    Timeout {
+        /// The device addressed.
+        device: u8,
+        /// Bytes expected.
+        expected: usize,
+        /// Bytes received.
+        got: usize,
+    },
+
+    /// The master reported a failed write.
+    #[error("device {device} refused the write to {register}: code {code} ({words})")]
+    WriteRefused {
+        /// The device addressed.
+        device: u8,
+        /// The register written.
+        register: &'static str,
+        /// The reply byte.
+        code: u8,
+        /// What the code means.
+        words: String,
+    },
+
+    /// The set-read-set reply was not the register count.
+    #[error("device {device} answered {got} to set-read-set {set}, expected the count {expected}{words}")]
+    ReadSetRejected {
+        /// The device addressed.
+        device: u8,
+        /// The set configured.
+        set: u8,
+        /// The count sent.
+        expected: usize,
+        /// The reply byte.
+        got: u8,
+        /// What the reply means, if it is an error code (with a leading "; ").
+        words: String,
+    },
+
+    /// The frame could not be built (input is checked before this, so it
+    /// points at a bug in hostctl).
+    #[error("cannot build the frame: {0}; please report this as a hostctl bug")]
+    Encode(#[from] EncodeError),
+
+    /// The reply could not be decoded against the device's table.
+    #[error("cannot decode the reply of device {device}: {source}; the link may be out of step, so reconnect")]
+    Decode {
+        /// The device addressed.
+        device: u8,
+        /// What was wrong.
+        source: DecodeError,
+    },
+}

@@ -1,0 +1,125 @@
+//! `hostctl`: the host-side command-line tool of the Blodwen rover.
+//!
+//! It sits on the PC end of the master's USB-serial link (or the twin's
+//! pty) and speaks the PC–master protocol of reference §4 with the frame
+//! codec, register tables and value mapping from `shared`, so it uses the
+//! same definitions as both firmwares. Subcommands write one register, read
+//! one register, configure a read set and watch a read set live.
+//!
+//! The flow is the same for every subcommand: the command line is checked
+//! and turned into frames first ([`plan`]), so bad input is refused before
+//! the port is even opened; then the link is opened, the `Ready` banner
+//! awaited, and the frames exchanged ([`execute`]).
+//!
+//! Read set 7 is reserved for `hostctl read`, which overwrites it on every
+//! call.
+
+pub mod banner;
+pub mod cli;
+pub mod cmd;
+pub mod error;
+#[cfg(test)]
+mod fake;
+pub mod json;
+pub mod link;
+pub mod port;
+pub mod resolve;
+pub mod suggest;
+pub mod table;
+#[cfg(test)]
+mod tests;
+
+use std::io::Write;
+
+pub use cli::{Cli, Command};
+pub use error::HostError;
+use link::Link;
+use port::Port;
+use table::Screen;
+
+/// A checked command, with its frames built.
+#[derive(Debug)]
+pub enum Plan {
+    /// See [`cmd::write`].
+    Write(cmd::write::Plan),
+    /// See [`cmd::read`].
+    Read(cmd::read::Plan),
+    /// See [`cmd::readset`].
+    Readset(cmd::readset::Plan),
+    /// See [`cmd::watch`].
+    Watch(cmd::watch::Plan),
+}
+
+/// Checks a command line and builds its frames. Nothing is sent.
+pub fn plan(command: &Command) -> Result<Plan, HostError> {
+    Ok(match command {
+        Command::Write(a) => Plan::Write(cmd::write::plan(a)?),
+        Command::Read(a) => Plan::Read(cmd::read::plan(a)?),
+        Command::Readset(a) => Plan::Readset(cmd::readset::plan(a)?),
+        Command::Watch(a) => Plan::Watch(cmd::watch::plan(a)?),
+    })
+}
+
+/// How results are printed.
+#[derive(Debug, Clone, Copy)]
+pub struct Style {
+    /// JSON lines instead of text.
+    pub json: bool,
+    /// Redraw `watch` tables in place (stdout is a terminal).
+    pub in_place: bool,
+}
+
+/// Runs a plan over a connected link, writing results to `out`.
+pub fn execute<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    style: Style,
+    out: &mut dyn Write,
+) -> Result<(), HostError> {
+    let text = match plan {
+        Plan::Write(p) => cmd::write::run(p, link, style.json)?,
+        Plan::Read(p) => cmd::read::run(p, link, style.json)?,
+        Plan::Readset(p) => cmd::readset::run(p, link, style.json)?,
+        Plan::Watch(p) => {
+            let mut screen = Screen::new(style.in_place && !style.json);
+            return cmd::watch::run(p, link, &mut |round| {
+                let text = if style.json {
+                    let mut lines = cmd::watch::json_lines(round).join("\n");
+                    lines.push('\n');
+                    lines
+                } else {
+                    screen.frame(&cmd::watch::table_lines(round))
+                };
+                out.write_all(text.as_bytes())?;
+                out.flush()?;
+                Ok(())
+            });
+        }
+    };
+    writeln!(out, "{text}")?;
+    Ok(())
+}
+
+/// Picks the port: `--port`, else `BLODWEN_PORT` (passed in as `env`).
+pub fn port_path(flag: Option<&str>, env: Option<String>) -> Result<String, HostError> {
+    match flag {
+        Some(p) => Ok(p.to_owned()),
+        None => env.filter(|p| !p.is_empty()).ok_or(HostError::NoPort),
+    }
+}
+
+/// The whole command: check the input, pick the port, open it with `open`
+/// (which also waits for the banner), then run. Bad input returns before
+/// `open` is called.
+pub fn run<P: Port>(
+    cli: &Cli,
+    env_port: Option<String>,
+    open: impl FnOnce(&str) -> Result<Link<P>, HostError>,
+    style: Style,
+    out: &mut dyn Write,
+) -> Result<(), HostError> {
+    let plan = plan(&cli.command)?;
+    let path = port_path(cli.port.as_deref(), env_port)?;
+    let mut link = open(&path)?;
+    execute(&plan, &mut link, style, out)
+}

@@ -1,0 +1,383 @@
+//! Command-line text to checked rover terms: devices, read sets, registers
+//! and values. Every check here runs before the port is opened.
+
+use shared::mapping;
+use shared::protocol::{MAX_DEVICE, READ_SETS, READ_SET_SIZE};
+use shared::regs::{BoardKind, Register};
+
+use crate::error::HostError;
+use crate::suggest;
+
+/// The board kinds, for searching every table.
+const KINDS: [BoardKind; 3] = [
+    BoardKind::Master,
+    BoardKind::DriveSteer,
+    BoardKind::LiftLift,
+];
+
+/// A device and the table it uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Target {
+    /// Device number, 0..=9.
+    pub device: u8,
+    /// Its board kind.
+    pub kind: BoardKind,
+}
+
+impl Target {
+    /// The target for a device number, if it is one.
+    pub fn of(device: u8) -> Option<Self> {
+        if device > MAX_DEVICE {
+            return None;
+        }
+        BoardKind::of_device(device).map(|kind| Self { device, kind })
+    }
+
+    /// The table's name, e.g. `DS`.
+    pub fn board(&self) -> &'static str {
+        self.kind.name()
+    }
+}
+
+/// Parses a number in decimal or `0x` hex.
+fn number(text: &str) -> Option<u32> {
+    let t = text.trim();
+    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => t.parse().ok(),
+    }
+}
+
+/// Parses a device number (0..9).
+pub fn device(text: &str) -> Result<Target, HostError> {
+    number(text)
+        .and_then(|n| u8::try_from(n).ok())
+        .and_then(Target::of)
+        .ok_or_else(|| HostError::BadDevice {
+            given: text.to_owned(),
+        })
+}
+
+/// Parses a read-set index (0..7).
+pub fn set(text: &str) -> Result<u8, HostError> {
+    number(text)
+        .filter(|&n| n < READ_SETS as u32)
+        .and_then(|n| u8::try_from(n).ok())
+        .ok_or_else(|| HostError::BadSet {
+            given: text.to_owned(),
+        })
+}
+
+/// The devices that use `kind`'s table, e.g. `1, 2, 4, 5, 7, 8`.
+pub fn devices_of(kind: BoardKind) -> String {
+    (0..=MAX_DEVICE)
+        .filter(|&d| BoardKind::of_device(d) == Some(kind))
+        .map(|d| d.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Resolves a register name or number against the target's table.
+pub fn register(target: Target, text: &str) -> Result<&'static Register, HostError> {
+    let table = target.kind.table();
+    if let Some(id) = number(text) {
+        return u8::try_from(id)
+            .ok()
+            .and_then(|id| target.kind.register(id))
+            .ok_or(HostError::NoSuchId {
+                id,
+                device: target.device,
+                board: target.board(),
+                last: u8::try_from(table.len().saturating_sub(1)).unwrap_or(u8::MAX),
+            });
+    }
+    if let Some(reg) = target.kind.lookup(text) {
+        return Ok(reg);
+    }
+    let others: Vec<BoardKind> = KINDS
+        .into_iter()
+        .filter(|&k| k != target.kind && k.lookup(text).is_some())
+        .collect();
+    if let Some(&other) = others.first() {
+        return Err(HostError::WrongBoard {
+            name: text.to_owned(),
+            device: target.device,
+            board: target.board(),
+            other: other.name(),
+            devices: devices_of(other),
+        });
+    }
+    let close = suggest::close_names(text, table.iter().map(|r| r.name));
+    let elsewhere: Vec<String> = KINDS
+        .into_iter()
+        .filter(|&k| k != target.kind)
+        .flat_map(|k| {
+            suggest::close_names(text, k.table().iter().map(|r| r.name))
+                .into_iter()
+                .map(move |n| format!("{n} ({}: devices {})", k.name(), devices_of(k)))
+        })
+        .take(3)
+        .collect();
+    let hint = if !close.is_empty() {
+        format!("; did you mean {}?", close.join(", "))
+    } else if !elsewhere.is_empty() {
+        format!("; other boards have {}", elsewhere.join(", "))
+    } else {
+        "; the register names are listed in docs/registers.md".to_owned()
+    };
+    Err(HostError::UnknownRegister {
+        name: text.to_owned(),
+        device: target.device,
+        board: target.board(),
+        hint,
+    })
+}
+
+/// Resolves the registers of one read set (at most 24).
+pub fn read_set(target: Target, texts: &[String]) -> Result<Vec<&'static Register>, HostError> {
+    if texts.len() > READ_SET_SIZE {
+        return Err(HostError::TooManyRegisters { count: texts.len() });
+    }
+    texts.iter().map(|t| register(target, t)).collect()
+}
+
+/// The values a register accepts: its range when mapped, otherwise what its
+/// raw size holds.
+pub fn allowed(reg: &Register) -> (f32, f32) {
+    match reg.range {
+        Some(r) => (r.min, r.max),
+        None if reg.size == 1 => (0.0, 255.0),
+        None => (0.0, 65535.0),
+    }
+}
+
+/// A register's unit with a leading space, or nothing.
+pub fn unit_suffix(reg: &Register) -> String {
+    if reg.unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {}", reg.unit)
+    }
+}
+
+/// Parses and checks a value for a write, returning it and its raw form.
+pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32, u16), HostError> {
+    let value: f32 = text.trim().parse().map_err(|_| HostError::BadValue {
+        given: text.to_owned(),
+    })?;
+    let (min, max) = allowed(reg);
+    if !value.is_finite() || value < min || value > max || !mapping::in_range(value, reg) {
+        return Err(HostError::OutOfRange {
+            value,
+            register: reg.name,
+            device: target.device,
+            min,
+            max,
+            unit: unit_suffix(reg),
+        });
+    }
+    Ok((value, mapping::map(value, reg)))
+}
+
+/// A value for people: unmapped registers as integers, mapped ones with
+/// three decimals.
+pub fn show(reg: &Register, raw: u16) -> String {
+    if reg.range.is_none() {
+        return raw.to_string();
+    }
+    let text = format!("{:.3}", mapping::unmap(raw, reg));
+    if text == "-0.000" {
+        "0.000".to_owned()
+    } else {
+        text
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ds() -> Target {
+        device("1").unwrap()
+    }
+
+    fn ll() -> Target {
+        device("3").unwrap()
+    }
+
+    #[test]
+    fn devices_map_to_their_tables() {
+        assert_eq!(device("0").unwrap().kind, BoardKind::Master);
+        assert_eq!(device("1").unwrap().kind, BoardKind::DriveSteer);
+        assert_eq!(device("8").unwrap().kind, BoardKind::DriveSteer);
+        assert_eq!(device("0x6").unwrap().kind, BoardKind::LiftLift);
+        assert_eq!(device("9").unwrap().device, 9);
+        for bad in ["10", "15", "256", "-1", "one", ""] {
+            assert!(
+                matches!(device(bad), Err(HostError::BadDevice { ref given }) if given == bad),
+                "{bad}"
+            );
+        }
+        assert_eq!(devices_of(BoardKind::LiftLift), "3, 6, 9");
+        assert_eq!(devices_of(BoardKind::DriveSteer), "1, 2, 4, 5, 7, 8");
+        assert_eq!(devices_of(BoardKind::Master), "0");
+    }
+
+    #[test]
+    fn sets_are_0_to_7() {
+        assert_eq!(set("0").unwrap(), 0);
+        assert_eq!(set("7").unwrap(), 7);
+        for bad in ["8", "255", "x", "-1"] {
+            assert!(matches!(set(bad), Err(HostError::BadSet { .. })), "{bad}");
+        }
+    }
+
+    #[test]
+    fn names_resolve_with_or_without_prefix_in_any_case() {
+        for text in [
+            "REGLL_ONE_REQPOS",
+            "regll_one_reqpos",
+            "ONE_REQPOS",
+            "One_ReqPos",
+            "9",
+        ] {
+            let reg = register(ll(), text).unwrap();
+            assert_eq!((reg.id, reg.name), (9, "REGLL_ONE_REQPOS"), "{text}");
+        }
+        assert_eq!(register(ds(), "drive_reqspeed").unwrap().id, 9);
+        assert_eq!(register(ds(), "0x1a").unwrap().name, "REGDS_STEER_REQPOS");
+        assert_eq!(register(ds(), "timer").unwrap().id, 1);
+        assert_eq!(
+            register(device("0").unwrap(), "reset").unwrap().name,
+            "REGMASTER_RESET"
+        );
+    }
+
+    #[test]
+    fn numbers_beyond_the_table_are_refused() {
+        let err = register(ds(), "45").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "device 1 (DS table) has registers 0..44; there is no register 45"
+        );
+        let err = register(device("0").unwrap(), "12").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "device 0 (MASTER table) has registers 0..11; there is no register 12"
+        );
+        assert!(matches!(
+            register(ds(), "300"),
+            Err(HostError::NoSuchId { id: 300, .. })
+        ));
+    }
+
+    #[test]
+    fn names_of_another_board_say_which_devices_have_them() {
+        let err = register(ds(), "REGLL_ONE_REQPOS").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "register `REGLL_ONE_REQPOS` is on the LL table, not on device 1 (DS); \
+             address one of devices 3, 6, 9 instead (readset and watch: --device)"
+        );
+        let err = register(device("0").unwrap(), "TIMER").unwrap_err();
+        assert!(
+            matches!(err, HostError::WrongBoard { other: "DS", .. }),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn unknown_names_get_suggestions() {
+        let err = register(ds(), "DRIVE_REQSPED").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "device 1 (DS table) has no register named `DRIVE_REQSPED`; \
+             did you mean REGDS_DRIVE_REQSPEED?"
+        );
+        let err = register(device("0").unwrap(), "REQPOS").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "device 0 (MASTER table) has no register named `REQPOS`; other boards have \
+             REGDS_STEER_REQPOS (DS: devices 1, 2, 4, 5, 7, 8), \
+             REGLL_ONE_REQPOS (LL: devices 3, 6, 9), REGLL_TWO_REQPOS (LL: devices 3, 6, 9)"
+        );
+        let err = register(ds(), "BANANA").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "device 1 (DS table) has no register named `BANANA`; \
+             the register names are listed in docs/registers.md"
+        );
+    }
+
+    #[test]
+    fn values_map_through_the_register_range() {
+        let speed = register(ds(), "DRIVE_REQSPEED").unwrap();
+        assert_eq!(value(ds(), speed, "1000").unwrap(), (1000.0, 0x9ffe));
+        assert_eq!(value(ds(), speed, "-1000").unwrap(), (-1000.0, 0x5fff));
+        assert_eq!(value(ds(), speed, "-4000").unwrap().1, 0x0000);
+        assert_eq!(value(ds(), speed, "4000").unwrap().1, 0xfffe);
+        let calib = register(ds(), "STEER_CALIBMIN").unwrap();
+        assert_eq!(value(ds(), calib, "-56").unwrap().1, 0x43);
+        let lift = register(ll(), "ONE_REQPOS").unwrap();
+        assert_eq!(value(ll(), lift, "20").unwrap().1, 0x8ccb);
+        let reset = register(ds(), "RESET").unwrap();
+        assert_eq!(value(ds(), reset, "4").unwrap().1, 4);
+    }
+
+    #[test]
+    fn out_of_range_values_name_register_device_and_range() {
+        let speed = register(ds(), "DRIVE_REQSPEED").unwrap();
+        assert_eq!(
+            value(ds(), speed, "4000.5").unwrap_err().to_string(),
+            "4000.5 is out of range for REGDS_DRIVE_REQSPEED on device 1: \
+             allowed -4000..4000 ticks/s"
+        );
+        for bad in ["nan", "inf", "-inf", "-4001"] {
+            assert!(
+                matches!(value(ds(), speed, bad), Err(HostError::OutOfRange { .. })),
+                "{bad}"
+            );
+        }
+        let reset = register(ds(), "RESET").unwrap();
+        assert_eq!(
+            value(ds(), reset, "256").unwrap_err().to_string(),
+            "256 is out of range for REG_RESET on device 1: allowed 0..255 bits"
+        );
+        assert!(matches!(
+            value(ds(), reset, "-1"),
+            Err(HostError::OutOfRange { .. })
+        ));
+        let status = register(ds(), "STATUS").unwrap();
+        assert_eq!(allowed(status), (0.0, 65535.0));
+        assert!(matches!(
+            value(ds(), speed, "fast"),
+            Err(HostError::BadValue { ref given }) if given == "fast"
+        ));
+    }
+
+    #[test]
+    fn read_sets_hold_at_most_24() {
+        let names: Vec<String> = (0..25).map(|_| "TIMER".to_owned()).collect();
+        assert!(matches!(
+            read_set(ds(), &names),
+            Err(HostError::TooManyRegisters { count: 25 })
+        ));
+        assert_eq!(read_set(ds(), &names[..24]).unwrap().len(), 24);
+    }
+
+    #[test]
+    fn shown_values_use_units_and_precision() {
+        let speed = register(ds(), "DRIVE_REQSPEED").unwrap();
+        assert_eq!(show(speed, 0x9ffe), "999.908");
+        assert_eq!(show(speed, 0x7fff), "0.000");
+        assert_eq!(show(speed, 0xffff), "4000.122");
+        let temp = register(device("0").unwrap(), "TEMPAMBIENT").unwrap();
+        // -0.0006 °C rounds to -0.001, not to a negative zero.
+        assert_eq!(show(temp, 0x2aaa), "-0.001");
+        assert_eq!(show(temp, 0x5887), "21.498");
+        let timer = register(ds(), "TIMER").unwrap();
+        assert_eq!(show(timer, 65535), "65535");
+        assert_eq!(unit_suffix(speed), " ticks/s");
+        assert_eq!(unit_suffix(register(ds(), "DRIVE_PGAIN").unwrap()), "");
+    }
+}

@@ -1,0 +1,557 @@
+//! Whole-command tests: a command line in, exact frames and output out,
+//! over the fake port.
+
+use clap::Parser;
+
+use crate::fake::FakePort;
+use crate::link::Link;
+use crate::{run, Cli, HostError, Style};
+
+/// What one command did.
+struct Outcome {
+    result: Result<(), HostError>,
+    out: String,
+    port: FakePort,
+    opened: bool,
+}
+
+/// Runs `hostctl ARGS` against a fake port answering with `replies`.
+fn hostctl<R: AsRef<[u8]>>(args: &str, replies: &[R]) -> Outcome {
+    hostctl_with(args, replies, Some("/dev/fake".to_owned()), false)
+}
+
+fn hostctl_with<R: AsRef<[u8]>>(
+    args: &str,
+    replies: &[R],
+    env: Option<String>,
+    in_place: bool,
+) -> Outcome {
+    let argv = std::iter::once("hostctl").chain(args.split_whitespace());
+    let cli = Cli::try_parse_from(argv).unwrap();
+    let mut port = FakePort::with_replies(replies);
+    let mut opened = false;
+    let mut out = Vec::new();
+    let style = Style {
+        json: cli.json,
+        in_place,
+    };
+    let result = run(
+        &cli,
+        env,
+        |_path: &str| {
+            opened = true;
+            Ok(Link::ready(&mut port))
+        },
+        style,
+        &mut out,
+    );
+    Outcome {
+        result,
+        out: String::from_utf8(out).unwrap(),
+        port,
+        opened,
+    }
+}
+
+/// Runs a command that must fail on its input: returns the message and
+/// checks that the port was never opened and nothing was written.
+fn refused(args: &str) -> String {
+    let outcome = hostctl::<&[u8]>(args, &[]);
+    assert!(!outcome.opened, "{args}: port opened");
+    assert!(outcome.port.written.is_empty(), "{args}: bytes sent");
+    assert!(outcome.out.is_empty(), "{args}: output {:?}", outcome.out);
+    match outcome.result {
+        Err(e) => e.to_string(),
+        Ok(()) => panic!("{args}: accepted"),
+    }
+}
+
+// ---- write ----
+
+#[test]
+fn write_drive_speed_sends_the_reference_frame() {
+    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 12 01 09 fe 9f"]);
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n"
+    );
+}
+
+#[test]
+fn write_lift_and_master_reset_send_the_reference_frames() {
+    let o = hostctl("write 3 REGLL_ONE_REQPOS 20", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 32 01 09 cb 8c"]);
+
+    let o = hostctl("write 3 regll_two_reqpos 20", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 32 01 1b cb 8c"]);
+
+    let o = hostctl("write 0 REGMASTER_RESET 1", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["05 02 01 00 01"]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_RESET = 1 (raw 0x01, arrives as 1)\n"
+    );
+}
+
+#[test]
+fn write_takes_negative_values_and_register_numbers() {
+    let o = hostctl("write 1 26 -40", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 12 01 1a 65 66"]);
+    let o = hostctl("write 4 RESET 1", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["05 42 01 00 01"]);
+}
+
+#[test]
+fn write_json_reports_value_raw_and_applied() {
+    let o = hostctl("--json write 1 STEER_REQPOS 40", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 12 01 1a 98 99"]);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"write\",\"device\":1,\"board\":\"DS\",\"id\":26,\
+         \"register\":\"REGDS_STEER_REQPOS\",\"value\":40,\"raw\":39320,\
+         \"applied\":39.99756,\"unit\":\"deg\"}\n"
+    );
+}
+
+#[test]
+fn write_error_code_reply_is_put_in_words() {
+    let o = hostctl("write 1 DRIVE_REQSPEED 0", &[[0x04]]);
+    assert_eq!(o.port.frames_hex(), ["06 12 01 09 ff 7f"]);
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "device 1 refused the write to REGDS_DRIVE_REQSPEED: code 4 \
+         (write to a register id the device does not have)"
+    );
+    assert!(o.out.is_empty());
+
+    let o = hostctl("write 1 DRIVE_REQSPEED 0", &[[0x99]]);
+    assert!(matches!(
+        o.result,
+        Err(HostError::WriteRefused { code: 0x99, ref words, .. }) if words == "not a known error code"
+    ));
+}
+
+#[test]
+fn write_without_reply_times_out() {
+    let o = hostctl::<&[u8]>("write 2 DRIVE_REQSPEED 0", &[]);
+    assert_eq!(o.port.frames_hex(), ["06 22 01 09 ff 7f"]);
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "device 2 did not answer within 1 s (0 of 1 reply bytes); check the device number, \
+         reset the rover, or restart the twin"
+    );
+}
+
+// ---- read ----
+
+#[test]
+fn read_uses_scratch_set_7_and_decodes_units() {
+    let o = hostctl("read 1 DRIVE_ACTUALSPEED", &[&[0x01][..], &[0xfe, 0x9f]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 14 07 10", "03 13 07"]);
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_ACTUALSPEED = 999.908 ticks/s (raw 0x9ffe)\n"
+    );
+}
+
+#[test]
+fn read_sizes_the_reply_from_the_device_table() {
+    // STEER_CALIBMAX is one byte on DS; the same id (43) is TWO_STALLCHECK on LL.
+    let o = hostctl("read 2 STEER_CALIBMAX", &[&[0x01][..], &[0xc4]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 24 07 2b", "03 23 07"]);
+    assert_eq!(
+        o.out,
+        "device 2 REGDS_STEER_CALIBMAX = 65.197 deg (raw 0xc4)\n"
+    );
+
+    let o = hostctl("--json read 0 11", &[&[0x01][..], &[0x01, 0x14]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 04 07 0b", "03 03 07"]);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":11,\
+         \"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\"}\n"
+    );
+}
+
+#[test]
+fn read_stops_when_the_set_is_not_accepted() {
+    let o = hostctl("read 1 TIMER", &[[0x06]]);
+    assert_eq!(o.port.frames_hex(), ["04 14 07 01"]);
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "device 1 answered 6 to set-read-set 7, expected the count 1; read set index must be 0-7"
+    );
+}
+
+#[test]
+fn read_with_a_short_reply_times_out() {
+    let o = hostctl("read 1 TIMER", &[&[0x01][..], &[0x34]]);
+    assert!(matches!(
+        o.result,
+        Err(HostError::Timeout {
+            device: 1,
+            expected: 2,
+            got: 1
+        })
+    ));
+}
+
+// ---- readset ----
+
+#[test]
+fn readset_sends_the_library_set_0_frame() {
+    let args = "readset --device 1 0 TIMER INTERVALI2C STATUS EXCEPTIONDATA CHASSIS \
+                DRIVE_ACTUALSPEED DRIVE_ERROR DRIVE_ERRORINTEGRAL DRIVE_ERRORDERIV \
+                DRIVE_CONTROL DRIVE_INTERVALCTRL DRIVE_CURRENT DRIVE_ODO STEER_ACTUALPOS \
+                STEER_ERROR STEER_ERRORINTEGRAL STEER_ERRORDERIV STEER_CONTROL \
+                STEER_INTERVALCTRL STEER_CURRENT";
+    let o = hostctl(args, &[[0x14]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        ["17 14 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27"]
+    );
+    assert!(o.out.starts_with("read set 0 = REG_TIMER REG_INTERVALI2C "));
+    assert!(o.out.ends_with(" REGDS_STEER_CURRENT (20 registers)\n"));
+}
+
+#[test]
+fn readset_defaults_to_the_master_table() {
+    let o = hostctl("readset 2 1 2 3 4 5 6 7 8 9 10 11", &[[0x0b]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        ["0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b"]
+    );
+    let o = hostctl("--json readset 5 TEMP1 exceptiondata", &[[0x02]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["05 04 05 02 0b"]);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"readset\",\"device\":0,\"set\":5,\"ids\":[2,11],\
+         \"registers\":[\"REGMASTER_TEMP1\",\"REGMASTER_EXCEPTIONDATA\"]}\n"
+    );
+}
+
+#[test]
+fn readset_checks_the_count_reply() {
+    let o = hostctl(
+        "readset --device 3 1 ONE_ACTUALPOS TWO_ACTUALPOS",
+        &[[0x01]],
+    );
+    assert_eq!(o.port.frames_hex(), ["05 34 01 10 22"]);
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "device 3 answered 1 to set-read-set 1, expected the count 2; frame length byte below 3"
+    );
+}
+
+// ---- watch ----
+
+#[test]
+fn watch_configures_then_polls_with_a_table() {
+    let replies: [&[u8]; 3] = [
+        &[0x03],
+        &[0xd2, 0x04, 0xfe, 0x9f, 0x98, 0x99],
+        &[0x36, 0x05, 0xff, 0x7f, 0x65, 0x66],
+    ];
+    let o = hostctl(
+        "watch --readset 0 --device 1 --count 2 --interval-ms 0 TIMER DRIVE_ACTUALSPEED 33",
+        &replies,
+    );
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        ["06 14 00 01 10 21", "03 13 00", "03 13 00"]
+    );
+    assert_eq!(
+        o.out,
+        "read set 0, round 1\n\
+         dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
+         \x20       ms            ticks/s              deg\n\
+         1     1234            999.908           39.998\n\
+         \n\
+         read set 0, round 2\n\
+         dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
+         \x20       ms            ticks/s              deg\n\
+         1     1334              0.000          -40.004\n"
+    );
+}
+
+#[test]
+fn watch_table_redraws_in_place_on_a_terminal() {
+    let replies: [&[u8]; 3] = [&[0x01], &[0x87, 0x58], &[0xaa, 0x2a]];
+    let o = hostctl_with(
+        "watch --readset 3 --count 2 --interval-ms 0 TEMPAMBIENT",
+        &replies,
+        Some("/dev/fake".into()),
+        true,
+    );
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 04 03 01", "03 03 03", "03 03 03"]);
+    assert_eq!(
+        o.out,
+        "read set 3, round 1\x1b[K\n\
+         dev  TEMPAMBIENT\x1b[K\n\
+         \x20           degC\x1b[K\n\
+         0         21.498\x1b[K\n\
+         \x1b[J\
+         \x1b[4A\r\
+         read set 3, round 2\x1b[K\n\
+         dev  TEMPAMBIENT\x1b[K\n\
+         \x20           degC\x1b[K\n\
+         0         -0.001\x1b[K\n\
+         \x1b[J"
+    );
+}
+
+#[test]
+fn watch_standard_set_0_polls_every_ds_board() {
+    let mut replies: Vec<Vec<u8>> = vec![vec![0x14]];
+    replies.extend((0..6).map(|_| vec![0u8; 40]));
+    let o = hostctl("watch --readset 0 --count 1", &replies);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "17 14 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27",
+            "03 13 00",
+            "03 23 00",
+            "03 43 00",
+            "03 53 00",
+            "03 73 00",
+            "03 83 00",
+        ]
+    );
+    let lines: Vec<&str> = o.out.lines().collect();
+    assert_eq!(lines.len(), 3 + 6);
+    assert_eq!(lines[0], "read set 0, round 1");
+    assert_eq!(
+        lines[1],
+        "dev  TIMER  INTERVALI2C  STATUS  EXCEPTIONDATA  CHASSIS  DRIVE_ACTUALSPEED  \
+         DRIVE_ERROR  DRIVE_ERRORINTEGRAL  DRIVE_ERRORDERIV  DRIVE_CONTROL  DRIVE_INTERVALCTRL  \
+         DRIVE_CURRENT  DRIVE_ODO  STEER_ACTUALPOS  STEER_ERROR  STEER_ERRORINTEGRAL  \
+         STEER_ERRORDERIV  STEER_CONTROL  STEER_INTERVALCTRL  STEER_CURRENT"
+    );
+    assert_eq!(
+        lines[2],
+        "        ms           us    bits                     adc            ticks/s      \
+         ticks/s                                ticks/s           duty                  ms         \
+         counts  ticks/256              deg          deg                                    deg           \
+         duty                  ms         counts"
+    );
+    // All-zero replies: mapped registers read their minimum, unmapped ones 0.
+    assert_eq!(
+        lines[3],
+        "1        0            0       0              0    0.000          -4000.000    \
+         -1000.000            -1000.000          -200.000       -255.000               0.000              \
+         0          0         -200.000     -200.000            -1000.000          -200.000       \
+         -255.000               0.000              0"
+    );
+    assert_eq!(lines[8], lines[3].replacen('1', "8", 1));
+}
+
+#[test]
+fn watch_standard_sets_1_and_2_match_the_library() {
+    let mut replies: Vec<Vec<u8>> = vec![vec![0x12]];
+    replies.extend((0..3).map(|_| vec![0u8; 36]));
+    let o = hostctl("watch --readset 1 --count 1", &replies);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "15 34 01 01 02 03 05 10 11 12 13 14 15 16 22 23 24 25 26 27 28",
+            "03 33 01",
+            "03 63 01",
+            "03 93 01",
+        ]
+    );
+
+    let mut reply = vec![0u8; 22];
+    reply[0] = 0x87;
+    reply[1] = 0x58;
+    reply[20] = 0x01;
+    reply[21] = 0x14;
+    let o = hostctl("--json watch --readset 2 --count 1", &[vec![0x0b], reply]);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        ["0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b", "03 03 02"]
+    );
+    let line = o.out.lines().next().unwrap();
+    assert!(line.starts_with(
+        "{\"round\":1,\"set\":2,\"device\":0,\"board\":\"MASTER\",\"values\":[\
+         {\"id\":1,\"register\":\"REGMASTER_TEMPAMBIENT\",\"raw\":22663,\"value\":21.498459,\"unit\":\"degC\"},\
+         {\"id\":2,\"register\":\"REGMASTER_TEMP1\",\"raw\":0,\"value\":-20,\"unit\":\"degC\"},"
+    ), "{line}");
+    assert!(line.ends_with(
+        "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\"}]}"
+    ), "{line}");
+    assert_eq!(o.out.lines().count(), 1);
+}
+
+#[test]
+fn watch_json_gives_one_line_per_device_per_round() {
+    let replies: [&[u8]; 7] = [
+        &[0x01],
+        &[0x01, 0x00],
+        &[0x02, 0x00],
+        &[0x03, 0x00],
+        &[0x04, 0x00],
+        &[0x05, 0x00],
+        &[0x06, 0x00],
+    ];
+    let o = hostctl(
+        "--json watch --readset 1 --count 2 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "{\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":1,\"value\":1,\"unit\":\"ms\"}]}\n\
+         {\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":2,\"value\":2,\"unit\":\"ms\"}]}\n\
+         {\"round\":1,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":3,\"value\":3,\"unit\":\"ms\"}]}\n\
+         {\"round\":2,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":4,\"value\":4,\"unit\":\"ms\"}]}\n\
+         {\"round\":2,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":5,\"value\":5,\"unit\":\"ms\"}]}\n\
+         {\"round\":2,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":6,\"value\":6,\"unit\":\"ms\"}]}\n"
+    );
+}
+
+#[test]
+fn watch_stops_at_the_first_failed_read() {
+    let replies: [&[u8]; 2] = [&[0x01], &[0x01]];
+    let o = hostctl("watch --readset 4 --device 5 --count 3 TIMER", &replies);
+    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04"]);
+    assert!(matches!(
+        o.result,
+        Err(HostError::Timeout {
+            device: 5,
+            expected: 2,
+            got: 1
+        })
+    ));
+    assert!(o.out.is_empty());
+}
+
+// ---- bad input: refused before the port is opened ----
+
+#[test]
+fn bad_devices_are_refused() {
+    assert_eq!(
+        refused("write 10 RESET 1"),
+        "device `10` does not exist: use 0 for the master or 1..9 for a controller \
+         (DS: 1, 2, 4, 5, 7, 8; LL: 3, 6, 9)"
+    );
+    refused("read 255 TIMER");
+    refused("readset --device 12 0 TIMER");
+    refused("watch --readset 0 --device 99");
+}
+
+#[test]
+fn unknown_and_misplaced_registers_are_refused() {
+    assert_eq!(
+        refused("write 1 DRIVE_REQSPED 10"),
+        "device 1 (DS table) has no register named `DRIVE_REQSPED`; \
+         did you mean REGDS_DRIVE_REQSPEED?"
+    );
+    assert!(refused("write 1 REGLL_ONE_REQPOS 20").contains("address one of devices 3, 6, 9"));
+    assert!(refused("read 0 45").contains("no register 45"));
+    assert!(refused("read 3 45").contains("no register 45"));
+    assert!(refused("readset 0 TIMER").contains("on the DS table, not on device 0"));
+    assert!(refused("watch --readset 2 --device 3 DRIVE_ACTUALSPEED").contains("not on device 3"));
+    assert!(refused("watch --readset 0 REGLL_ONE_ACTUALPOS").contains("not on device 1"));
+}
+
+#[test]
+fn out_of_range_values_are_refused() {
+    assert_eq!(
+        refused("write 1 DRIVE_REQSPEED 5000"),
+        "5000 is out of range for REGDS_DRIVE_REQSPEED on device 1: allowed -4000..4000 ticks/s"
+    );
+    assert_eq!(
+        refused("write 6 TWO_CALIBMIN -121"),
+        "-121 is out of range for REGLL_TWO_CALIBMIN on device 6: allowed -120..120 deg"
+    );
+    assert!(refused("write 1 DRIVE_REQSPEED fast").starts_with("`fast` is not a number"));
+    assert!(refused("write 0 RESET 256").contains("allowed 0..255"));
+}
+
+#[test]
+fn read_only_registers_are_refused() {
+    assert_eq!(
+        refused("write 1 DRIVE_ACTUALSPEED 0"),
+        "REGDS_DRIVE_ACTUALSPEED on device 1 is read-only; \
+         use `hostctl read 1 REGDS_DRIVE_ACTUALSPEED` to see it"
+    );
+    assert!(refused("write 0 TEMP5 1").contains("read-only"));
+}
+
+#[test]
+fn bad_sets_and_oversized_sets_are_refused() {
+    assert_eq!(
+        refused("readset 8 TIMER"),
+        "read set `8` does not exist: sets are 0..7 (hostctl's one-off reads use set 7)"
+    );
+    assert!(refused("watch --readset 8").contains("read set `8`"));
+    let many = vec!["TIMER"; 25].join(" ");
+    assert_eq!(
+        refused(&format!("readset --device 1 3 {many}")),
+        "25 registers given, but a read set holds at most 24; split them over two sets"
+    );
+    assert!(refused(&format!("watch --readset 3 --device 1 {many}")).starts_with("25 registers"));
+}
+
+#[test]
+fn watch_without_registers_needs_a_standard_set() {
+    assert_eq!(
+        refused("watch --readset 5"),
+        "read set 5 has no standard contents (only sets 0, 1 and 2 do); \
+         name the registers to watch after the options"
+    );
+    assert_eq!(
+        refused("watch --readset 1 --device 2"),
+        "read set 1's standard contents are for LL boards, but device 2 is DS; \
+         pick one of devices 3, 6, 9 or name the registers"
+    );
+}
+
+#[test]
+fn a_missing_port_is_reported_after_the_input_checks() {
+    let o = hostctl_with::<&[u8]>("write 1 DRIVE_REQSPEED 0", &[], None, false);
+    assert!(!o.opened);
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "no serial port given: pass --port PATH (e.g. /dev/ttyACM0 or the twin's pty), \
+         set BLODWEN_PORT, or start the twin"
+    );
+    // Bad input is still named first.
+    let o = hostctl_with::<&[u8]>("write 11 DRIVE_REQSPEED 0", &[], None, false);
+    assert!(matches!(o.result, Err(HostError::BadDevice { .. })));
+}
+
+#[test]
+fn the_port_flag_wins_over_the_environment() {
+    assert_eq!(
+        crate::port_path(Some("/dev/a"), Some("/dev/b".into())).unwrap(),
+        "/dev/a"
+    );
+    assert_eq!(
+        crate::port_path(None, Some("/dev/b".into())).unwrap(),
+        "/dev/b"
+    );
+    assert!(matches!(
+        crate::port_path(None, Some(String::new())),
+        Err(HostError::NoPort)
+    ));
+}
