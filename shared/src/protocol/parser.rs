@@ -1,0 +1,154 @@
+//! The master's frame parser: fed one byte at a time, it yields each frame as a
+//! validated [`Request`] or a [`FrameError`], all or nothing, and never loses sync
+//! beyond the frame it is in.
+
+use heapless::Vec;
+
+use super::{Command, FrameError, Request, Write, MAX_DEVICE, MAX_FRAME, READ_SETS};
+use super::{MAX_WRITES, READ_SET_SIZE};
+use crate::regs::BoardKind;
+
+/// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
+#[derive(Clone, Debug)]
+pub struct Parser {
+    buf: [u8; MAX_FRAME],
+    /// Bytes of the current frame received so far; 0 between frames.
+    len: u8,
+}
+
+impl Default for Parser {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Parser {
+    /// A parser waiting for a frame's length byte.
+    pub const fn new() -> Self {
+        Parser {
+            buf: [0; MAX_FRAME],
+            len: 0,
+        }
+    }
+
+    /// Feeds one byte. Returns `Some` when it ends a frame: the request, or why the frame
+    /// is rejected. A length byte of 0 or 1 ends its (error) frame at once; a frame of
+    /// length L >= 2 ends at its L-th byte.
+    pub fn push(&mut self, byte: u8) -> Option<Result<Request, FrameError>> {
+        if self.len == 0 {
+            if byte < 2 {
+                return Some(Err(FrameError::BadLength));
+            }
+            self.buf[0] = byte;
+            self.len = 1;
+            return None;
+        }
+        let index = usize::from(self.len);
+        // `len` < L <= 255 here, so `index` is inside the buffer.
+        if let Some(slot) = self.buf.get_mut(index) {
+            *slot = byte;
+        }
+        self.len = self.len.wrapping_add(1);
+        if self.len < self.buf[0] {
+            return None;
+        }
+        let frame_len = usize::from(self.len);
+        self.len = 0;
+        // `frame_len` <= 255 = the buffer's length; an empty slice would be BadLength.
+        let frame = self.buf.get(..frame_len).unwrap_or(&[]);
+        Some(validate(frame, |device, id| {
+            BoardKind::of_device(device).and_then(|kind| kind.size_of(id))
+        }))
+    }
+
+    /// Drops a partial frame (the link's inter-byte timeout); returns true if one was
+    /// dropped.
+    pub fn abort(&mut self) -> bool {
+        let dropped = self.len != 0;
+        self.len = 0;
+        dropped
+    }
+
+    /// Whether part of a frame has been received.
+    pub fn in_frame(&self) -> bool {
+        self.len != 0
+    }
+}
+
+/// Validates a complete frame. `size_of(device, id)` gives a register's size in bytes.
+pub(crate) fn validate(
+    frame: &[u8],
+    size_of: impl Fn(u8, u8) -> Option<u8>,
+) -> Result<Request, FrameError> {
+    let [_, header, payload @ ..] = frame else {
+        return Err(FrameError::BadLength);
+    };
+    if payload.is_empty() {
+        return Err(FrameError::BadLength);
+    }
+    let device = header >> 4;
+    if device > MAX_DEVICE {
+        return Err(FrameError::BadDevice);
+    }
+    match Command::from_u8(header & 0x0f) {
+        None => Err(FrameError::UnknownCommand),
+        Some(Command::Write) => {
+            let writes = parse_writes(payload, |id| size_of(device, id))?;
+            Ok(Request::Write { device, writes })
+        }
+        Some(Command::Read) => match payload {
+            [set] if usize::from(*set) < READ_SETS => Ok(Request::Read { device, set: *set }),
+            [_] => Err(FrameError::BadReadSet),
+            _ => Err(FrameError::LengthMismatch),
+        },
+        Some(Command::SetReadSet) => {
+            let [set, ids @ ..] = payload else {
+                return Err(FrameError::LengthMismatch);
+            };
+            if usize::from(*set) >= READ_SETS {
+                return Err(FrameError::BadReadSet);
+            }
+            if ids.len() > READ_SET_SIZE {
+                return Err(FrameError::ReadSetTooLarge);
+            }
+            let ids = Vec::from_slice(ids).map_err(|_| FrameError::ReadSetTooLarge)?;
+            Ok(Request::SetReadSet {
+                device,
+                set: *set,
+                ids,
+            })
+        }
+    }
+}
+
+/// Parses a write payload: count k, then k × (id, value of the id's size, LSB first).
+fn parse_writes(
+    payload: &[u8],
+    size_of: impl Fn(u8) -> Option<u8>,
+) -> Result<Vec<Write, MAX_WRITES>, FrameError> {
+    let [count, first @ ..] = payload else {
+        return Err(FrameError::LengthMismatch);
+    };
+    let mut rest = first;
+    let mut writes = Vec::new();
+    for _ in 0..*count {
+        let [id, after_id @ ..] = rest else {
+            return Err(FrameError::LengthMismatch);
+        };
+        let size = size_of(*id).ok_or(FrameError::UnknownRegister)?;
+        let (raw, after_value) = match (size, after_id) {
+            (1, [lo, tail @ ..]) => (u16::from(*lo), tail),
+            (2, [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
+            _ => return Err(FrameError::LengthMismatch),
+        };
+        writes
+            .push(Write { id: *id, raw })
+            .map_err(|_| FrameError::LengthMismatch)?;
+        rest = after_value;
+    }
+    if rest.is_empty() {
+        Ok(writes)
+    } else {
+        Err(FrameError::LengthMismatch)
+    }
+}
