@@ -13,6 +13,7 @@ mod reply;
 pub use encode::{encode_read, encode_set_read_set, encode_write};
 pub use error::{DecodeError, EncodeError, FrameError};
 pub use parser::Parser;
+
 pub use read_sets::ReadSets;
 pub use reply::{decode_read_reply, read_reply_len};
 
@@ -91,6 +92,115 @@ pub enum Request {
         ids: heapless::Vec<u8, READ_SET_SIZE>,
     },
 }
+
+/// How a frame's register values are sized: `(device, id) -> bytes`.
+pub(crate) type SizeOf = fn(u8, u8) -> Option<u8>;
+
+/// A complete, validated frame, borrowed from the parser's buffer (see
+/// [`Parser::push_frame`]). [`Frame::to_request`] makes an owned [`Request`].
+#[derive(Clone, Debug)]
+pub enum Frame<'a> {
+    /// Write registers, in order. Read-only ids are included; the master skips them.
+    Write {
+        /// Device 0..=9.
+        device: u8,
+        /// The writes, in frame order.
+        writes: Writes<'a>,
+    },
+    /// Read the registers of a read set.
+    Read {
+        /// Device 0..=9.
+        device: u8,
+        /// Read set 0..=7.
+        set: u8,
+    },
+    /// Replace a read set.
+    SetReadSet {
+        /// Device 0..=9 (the sets are shared by all devices).
+        device: u8,
+        /// Read set 0..=7.
+        set: u8,
+        /// The new ids (at most 24), not checked against any table.
+        ids: &'a [u8],
+    },
+}
+
+impl Frame<'_> {
+    /// The addressed device.
+    pub fn device(&self) -> u8 {
+        match self {
+            Frame::Write { device, .. }
+            | Frame::Read { device, .. }
+            | Frame::SetReadSet { device, .. } => *device,
+        }
+    }
+
+    /// An owned copy of the frame.
+    pub fn to_request(&self) -> Request {
+        match self {
+            Frame::Write { device, writes } => Request::Write {
+                device: *device,
+                writes: writes.clone().collect(),
+            },
+            Frame::Read { device, set } => Request::Read {
+                device: *device,
+                set: *set,
+            },
+            Frame::SetReadSet { device, set, ids } => Request::SetReadSet {
+                device: *device,
+                set: *set,
+                // The parser admits at most READ_SET_SIZE ids.
+                ids: ids.iter().copied().take(READ_SET_SIZE).collect(),
+            },
+        }
+    }
+}
+
+/// The writes of a validated write frame, decoded as they are iterated. The payload was
+/// checked to hold exactly this many well-sized entries, so iteration cannot fail.
+#[derive(Clone)]
+pub struct Writes<'a> {
+    device: u8,
+    remaining: u8,
+    bytes: &'a [u8],
+    size_of: SizeOf,
+}
+
+impl core::fmt::Debug for Writes<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_list().entries(self.clone()).finish()
+    }
+}
+
+impl Iterator for Writes<'_> {
+    type Item = Write;
+
+    fn next(&mut self) -> Option<Write> {
+        if self.remaining == 0 {
+            return None;
+        }
+        let [id, rest @ ..] = self.bytes else {
+            return None;
+        };
+        let (raw, tail) = match ((self.size_of)(self.device, *id), rest) {
+            (Some(1), [lo, tail @ ..]) => (u16::from(*lo), tail),
+            (Some(2), [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
+            _ => return None,
+        };
+        self.remaining -= 1;
+        self.bytes = tail;
+        Some(Write { id: *id, raw })
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        (
+            usize::from(self.remaining),
+            Some(usize::from(self.remaining)),
+        )
+    }
+}
+
+impl ExactSizeIterator for Writes<'_> {}
 
 impl Request {
     /// The addressed device.

@@ -2,10 +2,8 @@
 //! validated [`Request`] or a [`FrameError`], all or nothing, and never loses sync
 //! beyond the frame it is in.
 
-use heapless::Vec;
-
-use super::{Command, FrameError, Request, Write, MAX_DEVICE, MAX_FRAME, READ_SETS};
-use super::{MAX_WRITES, READ_SET_SIZE};
+use super::{Command, Frame, FrameError, Request, SizeOf, Writes, MAX_DEVICE, MAX_FRAME};
+use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
 use crate::regs::BoardKind;
 
 /// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
@@ -35,6 +33,13 @@ impl Parser {
     /// is rejected. A length byte of 0 or 1 ends its (error) frame at once; a frame of
     /// length L >= 2 ends at its L-th byte.
     pub fn push(&mut self, byte: u8) -> Option<Result<Request, FrameError>> {
+        self.push_frame(byte)
+            .map(|r| r.map(|frame| frame.to_request()))
+    }
+
+    /// As [`Parser::push`], but the frame is a view into the parser's buffer: nothing is
+    /// copied, which is what the master uses (a 2 KB RAM budget has no room for a copy).
+    pub fn push_frame(&mut self, byte: u8) -> Option<Result<Frame<'_>, FrameError>> {
         if self.len == 0 {
             if byte < 2 {
                 return Some(Err(FrameError::BadLength));
@@ -56,9 +61,7 @@ impl Parser {
         self.len = 0;
         // `frame_len` <= 255 = the buffer's length; an empty slice would be BadLength.
         let frame = self.buf.get(..frame_len).unwrap_or(&[]);
-        Some(validate(frame, |device, id| {
-            BoardKind::of_device(device).and_then(|kind| kind.size_of(id))
-        }))
+        Some(validate(frame, board_size_of))
     }
 
     /// Drops a partial frame (the link's inter-byte timeout); returns true if one was
@@ -75,11 +78,13 @@ impl Parser {
     }
 }
 
+/// A register's size on the boards of the real rover.
+fn board_size_of(device: u8, id: u8) -> Option<u8> {
+    BoardKind::of_device(device).and_then(|kind| kind.size_of(id))
+}
+
 /// Validates a complete frame. `size_of(device, id)` gives a register's size in bytes.
-pub(crate) fn validate(
-    frame: &[u8],
-    size_of: impl Fn(u8, u8) -> Option<u8>,
-) -> Result<Request, FrameError> {
+pub(crate) fn validate(frame: &[u8], size_of: SizeOf) -> Result<Frame<'_>, FrameError> {
     let [_, header, payload @ ..] = frame else {
         return Err(FrameError::BadLength);
     };
@@ -93,11 +98,11 @@ pub(crate) fn validate(
     match Command::from_u8(header & 0x0f) {
         None => Err(FrameError::UnknownCommand),
         Some(Command::Write) => {
-            let writes = parse_writes(payload, |id| size_of(device, id))?;
-            Ok(Request::Write { device, writes })
+            let writes = parse_writes(device, payload, size_of)?;
+            Ok(Frame::Write { device, writes })
         }
         Some(Command::Read) => match payload {
-            [set] if usize::from(*set) < READ_SETS => Ok(Request::Read { device, set: *set }),
+            [set] if usize::from(*set) < READ_SETS => Ok(Frame::Read { device, set: *set }),
             [_] => Err(FrameError::BadReadSet),
             _ => Err(FrameError::LengthMismatch),
         },
@@ -111,8 +116,7 @@ pub(crate) fn validate(
             if ids.len() > READ_SET_SIZE {
                 return Err(FrameError::ReadSetTooLarge);
             }
-            let ids = Vec::from_slice(ids).map_err(|_| FrameError::ReadSetTooLarge)?;
-            Ok(Request::SetReadSet {
+            Ok(Frame::SetReadSet {
                 device,
                 set: *set,
                 ids,
@@ -121,33 +125,34 @@ pub(crate) fn validate(
     }
 }
 
-/// Parses a write payload: count k, then k × (id, value of the id's size, LSB first).
-fn parse_writes(
-    payload: &[u8],
-    size_of: impl Fn(u8) -> Option<u8>,
-) -> Result<Vec<Write, MAX_WRITES>, FrameError> {
-    let [count, first @ ..] = payload else {
+/// Checks a write payload: count k, then k × (id, value of the id's size, LSB first),
+/// filling the payload exactly.
+fn parse_writes(device: u8, payload: &[u8], size_of: SizeOf) -> Result<Writes<'_>, FrameError> {
+    let [count, entries @ ..] = payload else {
         return Err(FrameError::LengthMismatch);
     };
-    let mut rest = first;
-    let mut writes = Vec::new();
+    if usize::from(*count) > MAX_WRITES {
+        return Err(FrameError::LengthMismatch);
+    }
+    let mut rest = entries;
     for _ in 0..*count {
         let [id, after_id @ ..] = rest else {
             return Err(FrameError::LengthMismatch);
         };
-        let size = size_of(*id).ok_or(FrameError::UnknownRegister)?;
-        let (raw, after_value) = match (size, after_id) {
-            (1, [lo, tail @ ..]) => (u16::from(*lo), tail),
-            (2, [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
+        let size = size_of(device, *id).ok_or(FrameError::UnknownRegister)?;
+        rest = match (size, after_id) {
+            (1, [_, tail @ ..]) => tail,
+            (2, [_, _, tail @ ..]) => tail,
             _ => return Err(FrameError::LengthMismatch),
         };
-        writes
-            .push(Write { id: *id, raw })
-            .map_err(|_| FrameError::LengthMismatch)?;
-        rest = after_value;
     }
     if rest.is_empty() {
-        Ok(writes)
+        Ok(Writes {
+            device,
+            remaining: *count,
+            bytes: entries,
+            size_of,
+        })
     } else {
         Err(FrameError::LengthMismatch)
     }

@@ -30,7 +30,7 @@ fn writes(list: &[(u8, u16)]) -> Vec<Write, MAX_WRITES> {
 fn example_1_write_to_slave_3_framing() {
     let expected = writes(&[(0, 0xff), (1, 0xff), (2, 0x0001), (3, 0x0002)]);
     assert_eq!(
-        validate(&EXAMPLE_1, |_, id| hypothetical(id)),
+        validate(&EXAMPLE_1, |_, id| hypothetical(id)).map(|f| f.to_request()),
         Ok(Request::Write {
             device: 3,
             writes: expected.clone()
@@ -57,7 +57,7 @@ fn example_2_set_read_set_corrected_length() {
     let frame = [0x07, 0x04, 0x01, 0x00, 0x01, 0x02, 0x03];
     let ids: Vec<u8, READ_SET_SIZE> = [0u8, 1, 2, 3].into_iter().collect();
     assert_eq!(
-        validate(&frame, |_, id| hypothetical(id)),
+        validate(&frame, |_, id| hypothetical(id)).map(|f| f.to_request()),
         Ok(Request::SetReadSet {
             device: 0,
             set: 1,
@@ -76,7 +76,7 @@ fn example_3_read_set_1_from_slave_1_and_its_reply() {
     let frame = encode_read(1, 1);
     assert_eq!(frame, [0x03, 0x13, 0x01]);
     assert_eq!(
-        validate(&frame, |_, id| hypothetical(id)),
+        validate(&frame, |_, id| hypothetical(id)).map(|f| f.to_request()),
         Ok(Request::Read { device: 1, set: 1 })
     );
     let reply = [0xff, 0xff, 0x01, 0x00, 0x02, 0x00];
