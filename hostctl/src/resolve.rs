@@ -260,10 +260,10 @@ mod tests {
             err.to_string(),
             "device 1 (DS table) has registers 0..44; there is no register 45"
         );
-        let err = register(device("0").unwrap(), "12").unwrap_err();
+        let err = register(device("0").unwrap(), "14").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "device 0 (MASTER table) has registers 0..11; there is no register 12"
+            "device 0 (MASTER table) has registers 0..13; there is no register 14"
         );
         assert!(matches!(
             register(ds(), "300"),

@@ -123,11 +123,12 @@ fn write_json_reports_value_raw_and_applied() {
 
 #[test]
 fn write_error_code_reply_is_put_in_words() {
-    let o = hostctl("write 1 DRIVE_REQSPEED 0", &[[0x04]]);
+    // The master's error replies are 0x80 | code (docs/protocol.md).
+    let o = hostctl("write 1 DRIVE_REQSPEED 0", &[[0x84]]);
     assert_eq!(o.port.frames_hex(), ["06 12 01 09 ff 7f"]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 1 refused the write to REGDS_DRIVE_REQSPEED: code 4 \
+        "device 1 refused the write to REGDS_DRIVE_REQSPEED: code 132 \
          (write to a register id the device does not have)"
     );
     assert!(o.out.is_empty());
@@ -186,11 +187,11 @@ fn read_sizes_the_reply_from_the_device_table() {
 
 #[test]
 fn read_stops_when_the_set_is_not_accepted() {
-    let o = hostctl("read 1 TIMER", &[[0x06]]);
+    let o = hostctl("read 1 TIMER", &[[0x86]]);
     assert_eq!(o.port.frames_hex(), ["04 14 07 01"]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 1 answered 6 to set-read-set 7, expected the count 1; read set index must be 0-7"
+        "device 1 answered 134 to set-read-set 7, expected the count 1; read set index must be 0-7"
     );
 }
 
@@ -253,7 +254,7 @@ fn readset_checks_the_count_reply() {
     assert_eq!(o.port.frames_hex(), ["05 34 01 10 22"]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 3 answered 1 to set-read-set 1, expected the count 2; frame length byte below 3"
+        "device 3 answered 1 to set-read-set 1, expected the count 2"
     );
 }
 

@@ -13,6 +13,8 @@
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
 
+pub mod exception;
 pub mod mapping;
+pub mod master;
 pub mod protocol;
 pub mod regs;

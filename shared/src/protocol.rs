@@ -93,6 +93,16 @@ pub enum Request {
     },
 }
 
+/// A frame the parser rejected: why, and its second byte (device and command) if it had
+/// one, so the master can decide whether an error reply can be understood.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Rejected {
+    /// Why the frame was rejected.
+    pub error: FrameError,
+    /// The frame's second byte, absent for a length byte below 2.
+    pub header: Option<u8>,
+}
+
 /// How a frame's register values are sized: `(device, id) -> bytes`.
 pub(crate) type SizeOf = fn(u8, u8) -> Option<u8>;
 
@@ -132,6 +142,15 @@ impl Frame<'_> {
             Frame::Write { device, .. }
             | Frame::Read { device, .. }
             | Frame::SetReadSet { device, .. } => *device,
+        }
+    }
+
+    /// The frame's command.
+    pub fn command(&self) -> Command {
+        match self {
+            Frame::Write { .. } => Command::Write,
+            Frame::Read { .. } => Command::Read,
+            Frame::SetReadSet { .. } => Command::SetReadSet,
         }
     }
 

@@ -22,8 +22,8 @@ fn encode_write_errors() {
         Err(EncodeError::UnknownRegister(45))
     );
     assert_eq!(
-        encode_write(0, &[w(12, 0)], &mut out),
-        Err(EncodeError::UnknownRegister(12))
+        encode_write(0, &[w(14, 0)], &mut out),
+        Err(EncodeError::UnknownRegister(14))
     );
     assert_eq!(
         encode_write(1, &[w(0, 0x100)], &mut out),
@@ -89,7 +89,7 @@ fn reply_length_depends_on_the_board() {
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[23, 44]), Some(4));
     assert_eq!(read_reply_len(BoardKind::LiftLift, &[23, 44]), Some(2));
     assert_eq!(read_reply_len(BoardKind::Master, &[0, 11]), Some(3));
-    assert_eq!(read_reply_len(BoardKind::Master, &[12]), None);
+    assert_eq!(read_reply_len(BoardKind::Master, &[14]), None);
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[45]), None);
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[]), Some(0));
 }
@@ -121,8 +121,8 @@ fn decode_read_reply_errors_leave_out_empty() {
     );
     assert!(out.is_empty());
     assert_eq!(
-        decode_read_reply(BoardKind::Master, &[1, 12], &[0, 0, 0], &mut out),
-        Err(DecodeError::UnknownRegister(12))
+        decode_read_reply(BoardKind::Master, &[1, 14], &[0, 0, 0], &mut out),
+        Err(DecodeError::UnknownRegister(14))
     );
     let ids = [1u8; READ_SET_SIZE + 1];
     let bytes = [0u8; 2 * (READ_SET_SIZE + 1)];

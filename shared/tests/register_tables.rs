@@ -114,6 +114,12 @@ const LL_MOTOR: [Motor; 18] = [
 ];
 
 const TEMP: Option<(f32, f32)> = Some((-20.0, 100.0));
+/// Registers this project adds after the original master table (docs/protocol.md).
+const MASTER_ADDED: [Expect; 2] = [
+    (12, "REGMASTER_LASTERROR", 1, R, NONE),
+    (13, "REGMASTER_ERRORCOUNT", 2, R, NONE),
+];
+
 const MASTER: [Expect; 12] = [
     (0, "REGMASTER_RESET", 1, W, NONE),
     (1, "REGMASTER_TEMPAMBIENT", 2, R, TEMP),
@@ -167,7 +173,10 @@ fn actual(table: &[Register]) -> Vec<Row> {
 
 #[test]
 fn master_table_matches_reference() {
-    assert_eq!(actual(BoardKind::Master.table()), owned(&MASTER));
+    // The original's twelve registers, unchanged, then this project's additions.
+    let mut expected = owned(&MASTER);
+    expected.extend(owned(&MASTER_ADDED));
+    assert_eq!(actual(BoardKind::Master.table()), expected);
 }
 
 #[test]
@@ -275,7 +284,7 @@ fn devices_map_to_board_kinds() {
     for (device, kind) in expected {
         assert_eq!(BoardKind::of_device(device), kind, "device {device}");
     }
-    assert_eq!(BoardKind::Master.table().len(), 12);
+    assert_eq!(BoardKind::Master.table().len(), 12 + MASTER_ADDED.len());
     assert_eq!(BoardKind::DriveSteer.table().len(), 45);
     assert_eq!(BoardKind::LiftLift.table().len(), 45);
 }

@@ -7,7 +7,8 @@ pub mod watch;
 pub mod write;
 
 use heapless::Vec as HVec;
-use shared::protocol::{self, EncodeError, FrameError};
+use shared::master::{LinkError, ERROR_REPLY_FLAG};
+use shared::protocol::{self, EncodeError};
 use shared::regs::Register;
 
 use crate::error::HostError;
@@ -18,9 +19,17 @@ use crate::resolve::Target;
 /// A frame as the codec builds it.
 pub type Frame = HVec<u8, { protocol::MAX_FRAME }>;
 
+/// The master's error for a one-byte reply, if it is one: `0x80 | code`.
+pub fn reply_error(reply: u8) -> Option<LinkError> {
+    if reply & ERROR_REPLY_FLAG == 0 {
+        return None;
+    }
+    LinkError::from_code(reply & !ERROR_REPLY_FLAG)
+}
+
 /// The words for a reply byte that is an error code, with a leading "; ".
 fn code_words(code: u8) -> String {
-    match FrameError::from_code(code) {
+    match reply_error(code) {
         Some(e) => format!("; {}", e.describe()),
         None => String::new(),
     }

@@ -1,7 +1,7 @@
 //! `hostctl write DEV REG VALUE`: one register, one write frame.
 
 use shared::mapping;
-use shared::protocol::{self, FrameError, Write};
+use shared::protocol::{self, Write};
 use shared::regs::Register;
 
 use super::Frame;
@@ -69,7 +69,7 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
             device: plan.target.device,
             register: plan.reg.name,
             code,
-            words: FrameError::from_code(code)
+            words: super::reply_error(code)
                 .map(|e| e.describe().to_string())
                 .unwrap_or_else(|| "not a known error code".to_owned()),
         });

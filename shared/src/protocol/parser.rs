@@ -2,7 +2,8 @@
 //! validated [`Request`] or a [`FrameError`], all or nothing, and never loses sync
 //! beyond the frame it is in.
 
-use super::{Command, Frame, FrameError, Request, SizeOf, Writes, MAX_DEVICE, MAX_FRAME};
+use super::{Command, Frame, FrameError, Rejected, Request, SizeOf, Writes};
+use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
 use crate::regs::BoardKind;
 
@@ -33,16 +34,21 @@ impl Parser {
     /// is rejected. A length byte of 0 or 1 ends its (error) frame at once; a frame of
     /// length L >= 2 ends at its L-th byte.
     pub fn push(&mut self, byte: u8) -> Option<Result<Request, FrameError>> {
-        self.push_frame(byte)
-            .map(|r| r.map(|frame| frame.to_request()))
+        self.push_frame(byte).map(|r| match r {
+            Ok(frame) => Ok(frame.to_request()),
+            Err(rejected) => Err(rejected.error),
+        })
     }
 
     /// As [`Parser::push`], but the frame is a view into the parser's buffer: nothing is
     /// copied, which is what the master uses (a 2 KB RAM budget has no room for a copy).
-    pub fn push_frame(&mut self, byte: u8) -> Option<Result<Frame<'_>, FrameError>> {
+    pub fn push_frame(&mut self, byte: u8) -> Option<Result<Frame<'_>, Rejected>> {
         if self.len == 0 {
             if byte < 2 {
-                return Some(Err(FrameError::BadLength));
+                return Some(Err(Rejected {
+                    error: FrameError::BadLength,
+                    header: None,
+                }));
             }
             self.buf[0] = byte;
             self.len = 1;
@@ -61,7 +67,8 @@ impl Parser {
         self.len = 0;
         // `frame_len` <= 255 = the buffer's length; an empty slice would be BadLength.
         let frame = self.buf.get(..frame_len).unwrap_or(&[]);
-        Some(validate(frame, board_size_of))
+        let header = frame.get(1).copied();
+        Some(validate(frame, board_size_of).map_err(|error| Rejected { error, header }))
     }
 
     /// Drops a partial frame (the link's inter-byte timeout); returns true if one was

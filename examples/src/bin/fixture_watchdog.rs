@@ -1,0 +1,107 @@
+//! Fixture: counts its boots in EEPROM byte 0, prints `boot=<n> wdrf=<0|1>\r\n`
+//! (MCUSR's watchdog-reset flag), then arms the watchdog in system-reset mode
+//! (16 ms) and never feeds it. Used by the harness's watchdog-reset test.
+#![no_std]
+#![no_main]
+
+use avr_device::atmega328p::{Peripherals, EEPROM, USART0};
+
+fn uart_init(uart: &USART0) {
+    uart.ucsr0a().write(|w| w.u2x0().set_bit());
+    uart.ucsr0c().write(|w| w.ucsz0().chr8());
+    uart.ucsr0b()
+        .write(|w| w.rxen0().set_bit().txen0().set_bit());
+    uart.ubrr0().write(|w| w.set(16));
+}
+
+fn put(uart: &USART0, byte: u8) {
+    while uart.ucsr0a().read().udre0().bit_is_clear() {}
+    uart.udr0().write(|w| w.set(byte));
+}
+
+fn put_str(uart: &USART0, s: &[u8]) {
+    for &b in s {
+        put(uart, b);
+    }
+}
+
+/// Prints `n` in decimal without leading zeros.
+fn put_dec(uart: &USART0, n: u16) {
+    let mut digits = [0u8; 5];
+    let mut len = 0;
+    let mut v = n;
+    loop {
+        digits[len] = b'0' + (v % 10) as u8;
+        len += 1;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    while len > 0 {
+        len -= 1;
+        put(uart, digits[len]);
+    }
+}
+
+/// Reads one EEPROM byte.
+fn ee_read(ee: &EEPROM, addr: u16) -> u8 {
+    while ee.eecr().read().eepe().bit_is_set() {}
+    // SAFETY: addresses below 1024 are valid EEAR values.
+    ee.eear().write(|w| unsafe { w.bits(addr) });
+    ee.eecr().write(|w| w.eere().set_bit());
+    ee.eedr().read().bits()
+}
+
+/// Writes one EEPROM byte (erase and write), interrupts assumed off.
+fn ee_write(ee: &EEPROM, addr: u16, value: u8) {
+    while ee.eecr().read().eepe().bit_is_set() {}
+    // SAFETY: addresses below 1024 are valid EEAR values; any EEDR value is valid.
+    ee.eear().write(|w| unsafe { w.bits(addr) });
+    ee.eedr().write(|w| unsafe { w.bits(value) });
+    ee.eecr().write(|w| w.eempe().set_bit());
+    ee.eecr().write(|w| w.eempe().set_bit().eepe().set_bit());
+    while ee.eecr().read().eepe().bit_is_set() {}
+}
+
+#[avr_device::entry]
+fn main() -> ! {
+    let Some(dp) = Peripherals::take() else {
+        loop {
+            avr_device::asm::nop();
+        }
+    };
+    let mcusr = dp.CPU.mcusr().read().bits();
+    // After a watchdog reset the watchdog stays on: clear WDRF, then turn it off
+    // with the timed WDCE sequence.
+    // SAFETY: 0 is a valid MCUSR value; WDCE|WDE then 0 is the documented sequence.
+    dp.CPU.mcusr().write(|w| unsafe { w.bits(0) });
+    dp.WDT
+        .wdtcsr()
+        .write(|w| w.wdce().set_bit().wde().set_bit());
+    dp.WDT.wdtcsr().write(|w| unsafe { w.bits(0) });
+    let uart = dp.USART0;
+    uart_init(&uart);
+    let boots = ee_read(&dp.EEPROM, 0).wrapping_add(1);
+    ee_write(&dp.EEPROM, 0, boots);
+    put_str(&uart, b"boot=");
+    put_dec(&uart, u16::from(boots));
+    put_str(&uart, b" wdrf=");
+    put(&uart, if mcusr & (1 << 3) != 0 { b'1' } else { b'0' });
+    put_str(&uart, b"\r\n");
+    // System-reset mode, WDP = 0: about 16 ms.
+    dp.WDT
+        .wdtcsr()
+        .write(|w| w.wdce().set_bit().wde().set_bit());
+    dp.WDT.wdtcsr().write(|w| w.wde().set_bit());
+    loop {
+        avr_device::asm::nop();
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {
+        avr_device::asm::nop();
+    }
+}

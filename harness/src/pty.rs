@@ -1,0 +1,140 @@
+//! An emulated UART0 exposed as a pseudo-terminal, so a host program (hostctl,
+//! a terminal) can open a path and talk to the emulated chip as to the Uno's
+//! USB serial port.
+//!
+//! Bytes the host writes are queued with [`Avr::uart_send`] and reach the
+//! firmware at the line rate; bytes the firmware sends are written to the host.
+//! The pty is raw (no echo, no line editing, 8-bit clean), and the baud rate
+//! the host sets is ignored: the emulated line runs at the firmware's rate.
+//!
+//! A pseudo-terminal has no DTR line, so the Uno's auto-reset when a host opens
+//! the port (a DTR pulse) cannot happen here: a host that expects a fresh banner
+//! after opening should be started before the emulation runs, or the caller
+//! should load a fresh [`Avr`] when the host connects.
+
+use std::fs::File;
+use std::io::{self, Read, Write};
+use std::os::fd::AsFd;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use nix::fcntl::{fcntl, FcntlArg, OFlag};
+use nix::pty::openpty;
+use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
+
+use crate::{Avr, HarnessError};
+
+/// A pseudo-terminal pair whose far end stands for the chip's serial port.
+pub struct Pty {
+    /// Our end (the "master" side of the pair), non-blocking.
+    controller: File,
+    /// The host's end, kept open so the controller never sees a hang-up while
+    /// no host has the path open.
+    _device: File,
+    /// Path of the host's end, e.g. `/dev/pts/7`.
+    path: PathBuf,
+    /// Firmware output not yet accepted by the pty (its buffer was full).
+    pending: Vec<u8>,
+    /// Symlink made by [`Pty::link`], removed on drop.
+    link: Option<PathBuf>,
+}
+
+impl Pty {
+    /// Opens a new raw pseudo-terminal.
+    pub fn open() -> Result<Pty, HarnessError> {
+        let pair = openpty(None, None)?;
+        let mut termios = tcgetattr(&pair.slave)?;
+        cfmakeraw(&mut termios);
+        tcsetattr(&pair.slave, SetArg::TCSANOW, &termios)?;
+        let flags = OFlag::from_bits_truncate(fcntl(pair.master.as_fd(), FcntlArg::F_GETFL)?);
+        fcntl(
+            pair.master.as_fd(),
+            FcntlArg::F_SETFL(flags | OFlag::O_NONBLOCK),
+        )?;
+        let path = nix::unistd::ttyname(&pair.slave)?;
+        Ok(Pty {
+            controller: File::from(pair.master),
+            _device: File::from(pair.slave),
+            path,
+            pending: Vec::new(),
+            link: None,
+        })
+    }
+
+    /// The path a host program opens, e.g. `/dev/pts/7`.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Makes `at` a symlink to the pty (e.g. `/tmp/rover-master`), replacing a stale
+    /// symlink there (never a regular file); removed on drop. A second call moves it.
+    pub fn link(&mut self, at: &Path) -> io::Result<()> {
+        self.remove_link();
+        if std::fs::symlink_metadata(at).is_ok_and(|m| m.file_type().is_symlink()) {
+            std::fs::remove_file(at)?;
+        }
+        std::os::unix::fs::symlink(&self.path, at)?;
+        self.link = Some(at.to_path_buf());
+        Ok(())
+    }
+
+    /// Moves bytes both ways without running the emulation: host bytes are queued
+    /// for the firmware (delivered at the line rate as it runs), firmware bytes are
+    /// written to the host.
+    pub fn pump(&mut self, avr: &mut Avr) -> io::Result<()> {
+        let mut buf = [0u8; 512];
+        loop {
+            match self.controller.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => avr.uart_send(&buf[..n]),
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            }
+        }
+        self.pending.extend(avr.uart_take());
+        while !self.pending.is_empty() {
+            match self.controller.write(&self.pending) {
+                Ok(n) => {
+                    self.pending.drain(..n);
+                }
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs the emulation paced to the wall clock for `wall` (emulated time never
+    /// runs ahead of real time), pumping bytes every `slice` of emulated time.
+    /// This is how a twin serves a host program that uses real-time timeouts.
+    pub fn serve(&mut self, avr: &mut Avr, wall: Duration, slice: Duration) -> io::Result<()> {
+        let start = Instant::now();
+        let emu_start = avr.micros();
+        let slice_us = u64::try_from(slice.as_micros()).unwrap_or(u64::MAX).max(1);
+        while start.elapsed() < wall && !avr.state().is_halted() {
+            self.pump(avr)?;
+            avr.run_us(slice_us);
+            self.pump(avr)?;
+            let emulated = Duration::from_micros(avr.micros() - emu_start);
+            if let Some(ahead) = emulated.checked_sub(start.elapsed()) {
+                std::thread::sleep(ahead);
+            }
+        }
+        Ok(())
+    }
+
+    fn remove_link(&mut self) {
+        if let Some(link) = self.link.take() {
+            // Best effort: a link someone else already removed is fine.
+            let _ = std::fs::remove_file(link);
+        }
+    }
+}
+
+impl Drop for Pty {
+    fn drop(&mut self) {
+        self.remove_link();
+    }
+}

@@ -1,0 +1,156 @@
+//! What the master does with each frame, and what it answers (docs/protocol.md).
+
+use super::{LinkError, LocalRegisters};
+use crate::protocol::{Frame, FrameError, ReadSets, Rejected, Write};
+use crate::regs::BoardKind;
+
+/// The slave answered nothing (no ACK, or no data).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct BusError;
+
+/// The master's I2C link to the slaves, as the frame logic sees it.
+pub trait SlaveBus {
+    /// Writes one register: the id, then its value bytes (LSB first).
+    fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError>;
+    /// Reads `out.len()` bytes of register `id` (and, past its size, the following ones).
+    fn read_registers(&mut self, device: u8, id: u8, out: &mut [u8]) -> Result<(), BusError>;
+}
+
+/// Byte a register the device does not have reads as (the manual's dummy byte).
+pub const MISSING_REGISTER_BYTE: u8 = 0xcd;
+
+/// The master's frame logic and the state it keeps: the read sets and device 0.
+#[derive(Clone, Debug, Default)]
+pub struct Service {
+    /// Device 0's registers.
+    pub local: LocalRegisters,
+    sets: ReadSets,
+}
+
+impl Service {
+    /// The state at boot.
+    pub const fn new() -> Self {
+        Service {
+            local: LocalRegisters::new(),
+            sets: ReadSets::new(),
+        }
+    }
+
+    /// Executes one frame as the parser delivered it and sends the answer through
+    /// `reply`. A failed frame whose command answers with one byte (write, set read set)
+    /// gets an error reply (`0x80 | code`); a failed read or unknown command gets no
+    /// reply, since no reply could be told apart from data. Every error is recorded in
+    /// device 0.
+    pub fn execute(
+        &mut self,
+        frame: Result<Frame<'_>, Rejected>,
+        bus: &mut impl SlaveBus,
+        reply: &mut impl FnMut(u8),
+    ) {
+        let header = match &frame {
+            Ok(f) => Some((f.device() << 4) | f.command() as u8),
+            Err(r) => r.header,
+        };
+        let result = match frame {
+            Ok(Frame::Write { device, writes }) => self.write(device, writes, bus, reply),
+            Ok(Frame::Read { device, set }) => self.read(device, set, bus, reply),
+            Ok(Frame::SetReadSet { set, ids, .. }) => match self.sets.set(set, ids) {
+                Ok(()) => {
+                    // At most 24 ids, so the count fits a byte.
+                    reply(ids.len() as u8);
+                    Ok(())
+                }
+                Err(e) => Err(LinkError::Frame(e)),
+            },
+            Err(r) => Err(LinkError::Frame(r.error)),
+        };
+        if let Err(e) = result {
+            self.local.record(e);
+            let one_byte_reply = matches!(header.map(|h| h & 0x0f), Some(2) | Some(4));
+            let already_answered = matches!(e, LinkError::MissingRegister);
+            if one_byte_reply && !already_answered {
+                reply(e.reply());
+            }
+        }
+    }
+
+    /// Records an error seen below the frame level (serial framing, overrun, a frame
+    /// dropped by the inter-byte timeout).
+    pub fn link_error(&mut self, e: LinkError) {
+        self.local.record(e);
+    }
+
+    /// A write frame: all writes are checked first, so a frame with a read-only register
+    /// writes nothing; then they are applied in order.
+    fn write(
+        &mut self,
+        device: u8,
+        writes: impl Iterator<Item = Write> + Clone,
+        bus: &mut impl SlaveBus,
+        reply: &mut impl FnMut(u8),
+    ) -> Result<(), LinkError> {
+        let kind = BoardKind::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
+        for w in writes.clone() {
+            match kind.is_writable(w.id) {
+                Some(true) => {}
+                Some(false) => return Err(LinkError::ReadOnly),
+                None => return Err(LinkError::Frame(FrameError::UnknownRegister)),
+            }
+        }
+        for w in writes {
+            if device == 0 {
+                self.local.write(w.id, w.raw);
+            } else {
+                let size = usize::from(kind.size_of(w.id).unwrap_or(1));
+                let bytes = w.raw.to_le_bytes();
+                bus.write_register(device, w.id, &bytes[..size.min(2)])
+                    .map_err(|_| LinkError::NoAnswer)?;
+            }
+        }
+        reply(0);
+        Ok(())
+    }
+
+    /// A read frame: each id of the set, sized by the device's table, LSB first. A
+    /// missing register reads as one 0xcd byte (and is recorded); a slave that stops
+    /// answering ends the reply early.
+    fn read(
+        &mut self,
+        device: u8,
+        set: u8,
+        bus: &mut impl SlaveBus,
+        reply: &mut impl FnMut(u8),
+    ) -> Result<(), LinkError> {
+        let kind = BoardKind::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
+        let ids = self
+            .sets
+            .get(set)
+            .ok_or(LinkError::Frame(FrameError::BadReadSet))?;
+        if ids.is_empty() {
+            return Err(LinkError::EmptyReadSet);
+        }
+        let mut missing = false;
+        for &reg in ids {
+            let Some(size) = kind.size_of(reg) else {
+                reply(MISSING_REGISTER_BYTE);
+                missing = true;
+                continue;
+            };
+            let mut buf = [0u8; 2];
+            let buf = &mut buf[..usize::from(size).min(2)];
+            if device == 0 {
+                let raw = self.local.read(reg).unwrap_or(0).to_le_bytes();
+                buf.copy_from_slice(&raw[..buf.len()]);
+            } else {
+                bus.read_registers(device, reg, buf)
+                    .map_err(|_| LinkError::NoAnswer)?;
+            }
+            buf.iter().for_each(|&b| reply(b));
+        }
+        if missing {
+            Err(LinkError::MissingRegister)
+        } else {
+            Ok(())
+        }
+    }
+}

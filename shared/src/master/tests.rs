@@ -1,0 +1,230 @@
+//! The master's frame logic against a fake I2C bus, fed through the real parser.
+
+use super::*;
+use crate::protocol::{FrameError, Parser};
+use crate::regs::id;
+use std::vec::Vec;
+
+/// A bus that records every transaction and answers reads from a byte pattern.
+#[derive(Default)]
+struct FakeBus {
+    writes: Vec<(u8, u8, Vec<u8>)>,
+    reads: Vec<(u8, u8, usize)>,
+    silent: Vec<u8>,
+}
+
+impl SlaveBus for FakeBus {
+    fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError> {
+        if self.silent.contains(&device) {
+            return Err(BusError);
+        }
+        self.writes.push((device, id, value.to_vec()));
+        Ok(())
+    }
+
+    fn read_registers(&mut self, device: u8, id: u8, out: &mut [u8]) -> Result<(), BusError> {
+        if self.silent.contains(&device) {
+            return Err(BusError);
+        }
+        self.reads.push((device, id, out.len()));
+        for (i, b) in out.iter_mut().enumerate() {
+            *b = id.wrapping_mul(2).wrapping_add(i as u8);
+        }
+        Ok(())
+    }
+}
+
+/// Feeds `bytes` through a parser into `service`; returns every reply byte.
+fn run(service: &mut Service, bus: &mut FakeBus, bytes: &[u8]) -> Vec<u8> {
+    let mut parser = Parser::new();
+    let mut out = Vec::new();
+    for &b in bytes {
+        if let Some(frame) = parser.push_frame(b) {
+            service.execute(frame, bus, &mut |r| out.push(r));
+        }
+    }
+    out
+}
+
+fn exception_data(service: &Service) -> Option<u16> {
+    service.local.read(id::REGMASTER_EXCEPTIONDATA)
+}
+
+#[test]
+fn master_reset_write_clears_the_boot_exception_and_answers_00() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    assert_eq!(exception_data(&s), Some(0x0002));
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x05, 0x02, 0x01, 0x00, 0x01]),
+        [0x00]
+    );
+    assert_eq!(exception_data(&s), Some(0));
+    assert!(bus.writes.is_empty());
+    assert_eq!(s.local.error_count(), 0);
+}
+
+#[test]
+fn library_set_2_then_read_gives_22_bytes_of_master_state() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let set2 = [0x0e, 0x04, 0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11];
+    assert_eq!(run(&mut s, &mut bus, &set2), [0x0b]);
+    let reply = run(&mut s, &mut bus, &[0x03, 0x03, 0x02]);
+    let mut expected = Vec::new();
+    for _ in 0..10 {
+        expected.extend_from_slice(&[0xaa, 0x2a]); // 0.0 °C
+    }
+    expected.extend_from_slice(&[0x02, 0x00]); // boot exception
+    assert_eq!(reply, expected);
+}
+
+#[test]
+fn write_to_a_read_only_register_changes_nothing_and_says_why() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    // REGMASTER_RESET (ok) and TEMP1 (read-only) in one frame: neither is applied.
+    let frame = [0x08, 0x02, 0x02, 0x00, 0x01, 0x02, 0x00, 0x00];
+    assert_eq!(run(&mut s, &mut bus, &frame), [0x80 | 9]);
+    assert_eq!(exception_data(&s), Some(0x0002), "reset was not applied");
+    assert_eq!(s.local.read(id::REGMASTER_LASTERROR), Some(9));
+    assert_eq!(s.local.read(id::REGMASTER_ERRORCOUNT), Some(1));
+    // The same on a slave: no I2C traffic at all.
+    let frame = [0x09, 0x12, 0x02, 0x09, 0xfe, 0x9f, 0x10, 0x00, 0x00];
+    assert_eq!(run(&mut s, &mut bus, &frame), [0x89]);
+    assert!(bus.writes.is_empty());
+}
+
+#[test]
+fn slave_writes_are_relayed_in_order_with_their_sizes() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    // Wheel 1 drive 1000 (reference §4.5), then a 1-byte write (DEADZONE 25 = 0x05).
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x06, 0x12, 0x01, 0x09, 0xfe, 0x9f]),
+        [0]
+    );
+    assert_eq!(run(&mut s, &mut bus, &[0x05, 0x12, 0x01, 0x19, 0x05]), [0]);
+    assert_eq!(
+        bus.writes,
+        vec![(1, 9, vec![0xfe, 0x9f]), (1, 25, vec![0x05])]
+    );
+}
+
+#[test]
+fn slave_reads_follow_the_set_and_the_board_table() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    // Set 1 of the library (LL): 18 ids, 36 bytes.
+    let set1 = [
+        0x15, 0x34, 0x01, 1, 2, 3, 5, 16, 17, 18, 19, 20, 21, 22, 34, 35, 36, 37, 38, 39, 40,
+    ];
+    assert_eq!(run(&mut s, &mut bus, &set1), [18]);
+    let reply = run(&mut s, &mut bus, &[0x03, 0x33, 0x01]);
+    assert_eq!(reply.len(), 36);
+    assert_eq!(&reply[..4], &[2, 3, 4, 5]); // ids 1 and 2, two bytes each
+    assert_eq!(bus.reads.len(), 18);
+    assert!(bus.reads.iter().all(|&(dev, _, n)| dev == 3 && n == 2));
+}
+
+#[test]
+fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x05, 0xa2, 0x01, 0x00, 0x01]),
+        [0x82]
+    );
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0xf3, 0x00]), []);
+    assert_eq!(s.local.read(id::REGMASTER_LASTERROR), Some(2));
+    assert_eq!(s.local.error_count(), 2);
+    assert!(bus.writes.is_empty() && bus.reads.is_empty());
+}
+
+#[test]
+fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x15, 0x00]), []);
+    assert_eq!(
+        s.local.last_error(),
+        Some(LinkError::Frame(FrameError::UnknownCommand))
+    );
+    assert_eq!(run(&mut s, &mut bus, &[0x00]), []);
+    // L = 2 with a write header: a write's one-byte reply can carry the error.
+    assert_eq!(run(&mut s, &mut bus, &[0x02, 0x12]), [0x81]);
+    assert_eq!(run(&mut s, &mut bus, &[0x02, 0x13]), []);
+    assert_eq!(
+        s.local.last_error(),
+        Some(LinkError::Frame(FrameError::BadLength))
+    );
+    assert_eq!(s.local.error_count(), 4);
+}
+
+#[test]
+fn empty_set_and_missing_registers() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x03, 0x05]), []);
+    assert_eq!(s.local.last_error(), Some(LinkError::EmptyReadSet));
+    // Set 6 = [EXCEPTIONDATA, 14 (no such register), LASTERROR].
+    assert_eq!(run(&mut s, &mut bus, &[0x06, 0x04, 0x06, 11, 14, 12]), [3]);
+    let reply = run(&mut s, &mut bus, &[0x03, 0x03, 0x06]);
+    assert_eq!(reply, [0x02, 0x00, 0xcd, 11]);
+    assert_eq!(s.local.last_error(), Some(LinkError::MissingRegister));
+}
+
+#[test]
+fn oversize_set_gets_an_error_reply_that_no_count_can_equal() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let mut frame = vec![28, 0x04, 0x03];
+    frame.extend(0..25u8);
+    assert_eq!(run(&mut s, &mut bus, &frame), [0x87]);
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x03, 0x03, 0x03]),
+        [],
+        "set 3 stayed empty"
+    );
+}
+
+#[test]
+fn a_silent_slave_is_reported_and_the_master_keeps_answering() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    bus.silent.push(4);
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x06, 0x42, 0x01, 0x09, 0xfe, 0x9f]),
+        [0x8c]
+    );
+    assert_eq!(run(&mut s, &mut bus, &[0x04, 0x04, 0x00, 0x01]), [1]);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x43, 0x00]), []);
+    assert_eq!(s.local.last_error(), Some(LinkError::NoAnswer));
+    // Device 0 still answers.
+    assert_eq!(run(&mut s, &mut bus, &[0x05, 0x02, 0x01, 0x00, 0x01]), [0]);
+}
+
+#[test]
+fn garbage_then_abort_then_a_valid_frame_is_answered() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let mut parser = Parser::new();
+    let mut out = Vec::new();
+    for &b in &[0x40u8, 0x99, 0x12, 0x00] {
+        assert!(parser.push_frame(b).is_none());
+    }
+    assert!(
+        parser.abort(),
+        "the inter-byte timeout drops the partial frame"
+    );
+    s.link_error(LinkError::Frame(FrameError::Truncated));
+    for &b in &[0x05u8, 0x02, 0x01, 0x00, 0x01] {
+        if let Some(f) = parser.push_frame(b) {
+            s.execute(f, &mut bus, &mut |r| out.push(r));
+        }
+    }
+    assert_eq!(out, [0]);
+    assert_eq!(exception_data(&s), Some(0));
+    assert_eq!(s.local.read(id::REGMASTER_LASTERROR), Some(8));
+}
+
+#[test]
+fn error_codes_round_trip_and_replies_carry_the_flag() {
+    for code in 0..=255u8 {
+        if let Some(e) = LinkError::from_code(code) {
+            assert_eq!(e.code(), code);
+            assert_eq!(e.reply(), 0x80 | code);
+            assert!(!e.describe().is_empty());
+        }
+    }
+    assert_eq!(LinkError::from_code(0), None);
+}
