@@ -34,7 +34,9 @@ impl Eeprom {
         avr_device::interrupt::free(|_| {
             // EEMPE then EEPE within four cycles, so interrupts stay off between them.
             self.ee.eecr().write(|w| w.eempe().set_bit());
-            self.ee.eecr().write(|w| w.eempe().set_bit().eepe().set_bit());
+            self.ee
+                .eecr()
+                .write(|w| w.eempe().set_bit().eepe().set_bit());
         });
     }
 }

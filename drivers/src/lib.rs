@@ -8,6 +8,7 @@
 #![no_std]
 #![feature(asm_experimental_arch)]
 
+pub mod cpu;
 pub mod eeprom;
 pub mod pin;
 pub mod sleep;

@@ -86,7 +86,9 @@ impl<const PORT: u8, const BIT: u8> Input<PORT, BIT> {
     pub fn is_high(&self) -> bool {
         let v: u8;
         // SAFETY: reads the PINx I/O register; no side effects.
-        unsafe { asm!("in {v}, {pin}", v = out(reg) v, pin = const PORT - 2, options(nostack, nomem)) }
+        unsafe {
+            asm!("in {v}, {pin}", v = out(reg) v, pin = const PORT - 2, options(nostack, nomem))
+        }
         v & (1 << BIT) != 0
     }
 }

@@ -9,12 +9,13 @@ pub struct Tick {
 
 impl Tick {
     /// Starts Timer0: prescaler 64, OCR0A 249, so compare A fires every 1000 µs at 16 MHz.
+    /// The compare interrupt's enable bit (TIMSK0) belongs to the executor, which sets it
+    /// for the task bound to TIMER0_COMPA.
     pub fn start(tc0: TC0) -> Self {
         tc0.tccr0a().write(|w| w.wgm0().ctc());
         // SAFETY: 249 is a valid compare value.
         tc0.ocr0a().write(|w| unsafe { w.bits(249) });
         tc0.tccr0b().write(|w| w.cs0().prescale_64());
-        tc0.timsk0().write(|w| w.ocie0a().set_bit());
         Tick { tc0 }
     }
 

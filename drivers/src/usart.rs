@@ -1,9 +1,13 @@
 //! USART0 at 115200 8N1 with interrupt-driven receive and transmit.
 //!
 //! The ISRs call [`Usart0::on_receive`] and [`Usart0::on_data_register_empty`]; the queues
-//! between them and the tasks belong to the firmware.
+//! between them and the tasks belong to the firmware. UCSR0B also holds the interrupt
+//! enable bits, which belong to the executor: this driver writes it only through
+//! `executor::hw`, and the data-register-empty interrupt is switched with the executor's
+//! gate (`arm`/`disarm` of the gated task), never here.
 
 use avr_device::atmega328p::USART0;
+use executor::hw::DriverReg;
 
 /// A receive error the hardware flagged on a byte.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -21,16 +25,16 @@ pub struct Usart0 {
 
 impl Usart0 {
     /// Configures 115200 baud (double speed, UBRR 16: 2.1 % fast, as the Uno's own core does),
-    /// 8N1, receiver and transmitter on, receive interrupt on. UCSR0A and UCSR0C are written
-    /// before UBRR0 because the emulator applies baud settings when UBRR0 is written.
+    /// 8N1, receiver and transmitter on. UCSR0A and UCSR0C are written before UBRR0 because
+    /// the emulator applies baud settings when UBRR0 is written.
     pub fn new(usart: USART0) -> Self {
         usart.ucsr0a().write(|w| w.u2x0().set_bit());
         usart.ucsr0c().write(|w| w.ucsz0().chr8());
         // SAFETY: 16 is a valid baud divisor.
         usart.ubrr0().write(|w| unsafe { w.bits(16) });
-        usart
-            .ucsr0b()
-            .write(|w| w.rxen0().set_bit().txen0().set_bit().rxcie0().set_bit());
+        const RXEN0: u8 = 1 << 4;
+        const TXEN0: u8 = 1 << 3;
+        executor::hw::write(DriverReg::Ucsr0b, RXEN0 | TXEN0);
         Usart0 { usart }
     }
 
@@ -48,23 +52,11 @@ impl Usart0 {
         }
     }
 
-    /// Sends the next byte from `next` or, when there is none, stops the data-register-empty
-    /// interrupt (call from that interrupt).
+    /// Sends `byte` (call from the data-register-empty interrupt, which guarantees room).
     #[inline(always)]
-    pub fn on_data_register_empty(&self, next: Option<u8>) {
-        match next {
-            // SAFETY: UDR0 takes any byte.
-            Some(b) => {
-                self.usart.udr0().write(|w| unsafe { w.bits(b) });
-            }
-            None => self.set_tx_interrupt(false),
-        }
-    }
-
-    /// Turns the data-register-empty interrupt on (bytes are queued) or off.
-    #[inline(always)]
-    pub fn set_tx_interrupt(&self, on: bool) {
-        self.usart.ucsr0b().modify(|_, w| w.udrie0().bit(on));
+    pub fn send(&self, byte: u8) {
+        // SAFETY: UDR0 takes any byte.
+        self.usart.udr0().write(|w| unsafe { w.bits(byte) });
     }
 
     /// Sends one byte, waiting for the data register (for the panic path and the banner).

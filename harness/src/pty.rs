@@ -8,9 +8,12 @@
 //! the host sets is ignored: the emulated line runs at the firmware's rate.
 //!
 //! A pseudo-terminal has no DTR line, so the Uno's auto-reset when a host opens
-//! the port (a DTR pulse) cannot happen here: a host that expects a fresh banner
-//! after opening should be started before the emulation runs, or the caller
-//! should load a fresh [`Avr`] when the host connects.
+//! the port cannot come from the line itself. Instead the pty watches its path with
+//! inotify: [`Pty::host_event`] reports each open and the last close by a host
+//! program, and a caller that stands for an Uno resets the chip on open (as the
+//! twin does). While no host has the port open, firmware output is discarded, as
+//! bytes sent to a closed USB serial port are, so a host that opens the port never
+//! reads a stale banner.
 
 use std::fs::File;
 use std::io::{self, Read, Write};
@@ -19,6 +22,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use nix::fcntl::{fcntl, FcntlArg, OFlag};
+use nix::sys::inotify::{AddWatchFlags, InitFlags, Inotify};
 use nix::pty::openpty;
 use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
 
@@ -37,6 +41,23 @@ pub struct Pty {
     pending: Vec<u8>,
     /// Symlink made by [`Pty::link`], removed on drop.
     link: Option<PathBuf>,
+    /// Watches the host's end for opens and closes by other programs.
+    watch: Inotify,
+    /// How many host opens of the path are currently open.
+    host_opens: u32,
+    /// A host opened the port since [`Pty::host_event`] last said so.
+    opened: bool,
+    /// Whether a host had the port open when [`Pty::host_event`] last looked.
+    was_connected: bool,
+}
+
+/// A change in whether a host program has the port open.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum HostEvent {
+    /// A host program opened the port (the Uno would reset now).
+    Opened,
+    /// The last host program closed the port.
+    Closed,
 }
 
 impl Pty {
@@ -52,13 +73,63 @@ impl Pty {
             FcntlArg::F_SETFL(flags | OFlag::O_NONBLOCK),
         )?;
         let path = nix::unistd::ttyname(&pair.slave)?;
+        // Watch only after our own open, so only host programs' opens are seen.
+        let watch = Inotify::init(InitFlags::IN_NONBLOCK | InitFlags::IN_CLOEXEC)?;
+        watch.add_watch(
+            &path,
+            AddWatchFlags::IN_OPEN | AddWatchFlags::IN_CLOSE_WRITE | AddWatchFlags::IN_CLOSE_NOWRITE,
+        )?;
         Ok(Pty {
             controller: File::from(pair.master),
             _device: File::from(pair.slave),
             path,
             pending: Vec::new(),
             link: None,
+            watch,
+            host_opens: 0,
+            opened: false,
+            was_connected: false,
         })
+    }
+
+    /// Whether a host program has the port open.
+    pub fn host_connected(&self) -> bool {
+        self.host_opens > 0
+    }
+
+    /// Reports the most recent change since the last call: `Opened` if a host opened
+    /// the port (even if it closed it again since), `Closed` if the last host closed it,
+    /// `None` if nothing changed.
+    pub fn host_event(&mut self) -> Option<HostEvent> {
+        self.poll_watch();
+        let closed = self.was_connected && self.host_opens == 0;
+        self.was_connected = self.host_opens > 0;
+        if std::mem::take(&mut self.opened) {
+            Some(HostEvent::Opened)
+        } else if closed {
+            Some(HostEvent::Closed)
+        } else {
+            None
+        }
+    }
+
+    /// Counts the opens and closes inotify has seen; an open is remembered for
+    /// [`Pty::host_event`].
+    fn poll_watch(&mut self) {
+        while let Ok(events) = self.watch.read_events() {
+            if events.is_empty() {
+                break;
+            }
+            for e in events {
+                if e.mask.contains(AddWatchFlags::IN_OPEN) {
+                    self.host_opens += 1;
+                    self.opened = true;
+                    self.pending.clear();
+                } else {
+                    self.host_opens = self.host_opens.saturating_sub(1);
+                }
+            }
+        }
     }
 
     /// The path a host program opens, e.g. `/dev/pts/7`.
@@ -82,6 +153,13 @@ impl Pty {
     /// for the firmware (delivered at the line rate as it runs), firmware bytes are
     /// written to the host.
     pub fn pump(&mut self, avr: &mut Avr) -> io::Result<()> {
+        self.poll_watch();
+        if !self.host_connected() {
+            // Nobody listens: the bytes are lost, as on a closed serial port.
+            avr.uart_take();
+            self.pending.clear();
+            return Ok(());
+        }
         let mut buf = [0u8; 512];
         loop {
             match self.controller.read(&mut buf) {

@@ -6,7 +6,7 @@
 //! as a ratio to real time.
 
 use clap::Parser;
-use harness::{Avr, Pty};
+use harness::{Avr, HostEvent, Pty};
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -70,6 +70,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let mut last_stats = Instant::now();
     while !STOP.load(Ordering::SeqCst) {
         let t0 = Instant::now();
+        if pty.host_event() == Some(HostEvent::Opened) {
+            // The Uno resets when a program opens its port (DTR auto-reset).
+            master.reset();
+            master.uart_take();
+        }
         pty.pump(&mut master)?;
         master.run_us(SLICE_US);
         pty.pump(&mut master)?;

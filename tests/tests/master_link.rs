@@ -1,0 +1,126 @@
+//! The real master image in the emulator, driven over its UART as a PC program would:
+//! the banner, device 0's registers, the library's read set 2, and bad input.
+
+use harness::Avr;
+
+/// Boots the master and returns it with the banner read.
+fn boot() -> (Avr, String) {
+    let mut avr = Avr::firmware("master").unwrap();
+    let banner = avr.uart_read_until(b"Ready\r\n", 2_000_000).unwrap();
+    (avr, String::from_utf8(banner).unwrap())
+}
+
+/// Sends a frame and collects the reply bytes that arrive within `us`.
+fn exchange(avr: &mut Avr, frame: &[u8], n: usize) -> Vec<u8> {
+    avr.uart_send(frame);
+    let reply = avr.uart_read_exact(n, 200_000).unwrap();
+    // Nothing more may follow.
+    avr.run_us(5_000);
+    assert!(avr.uart_take().is_empty(), "unexpected extra reply bytes");
+    reply
+}
+
+/// Sends a frame that must get no reply at all.
+fn silence(avr: &mut Avr, frame: &[u8]) {
+    avr.uart_send(frame);
+    avr.run_us(20_000);
+    assert_eq!(avr.uart_take(), Vec::<u8>::new(), "expected no reply to {frame:02x?}");
+}
+
+/// Reads master registers through read set 6.
+fn read_master(avr: &mut Avr, ids: &[u8], reply_len: usize) -> Vec<u8> {
+    let mut frame = vec![3 + ids.len() as u8, 0x04, 6];
+    frame.extend_from_slice(ids);
+    assert_eq!(exchange(avr, &frame, 1), [ids.len() as u8]);
+    exchange(avr, &[0x03, 0x03, 0x06], reply_len)
+}
+
+#[test]
+fn banner_has_the_four_lines_of_the_original() {
+    let (_avr, banner) = boot();
+    let lines: Vec<&str> = banner.split("\r\n").collect();
+    assert_eq!(lines.len(), 5, "{banner:?}");
+    assert_eq!(lines[0], "Starting");
+    // `Mmm dd yyyy hh:mm:ss`, the day space-padded.
+    let date = lines[1].as_bytes();
+    assert_eq!(date.len(), 20, "{:?}", lines[1]);
+    assert!(date[..3].iter().all(u8::is_ascii_alphabetic));
+    assert_eq!((date[3], date[6], date[11], date[14], date[17]), (b' ', b' ', b' ', b':', b':'));
+    let free: u32 = lines[2].parse().unwrap();
+    assert!((500..2048).contains(&free), "free SRAM {free}");
+    assert_eq!(lines[3], "Ready");
+    assert_eq!(lines[4], "");
+}
+
+#[test]
+fn master_reset_clears_the_boot_exception() {
+    let (mut avr, _) = boot();
+    assert_eq!(read_master(&mut avr, &[11], 2), [0x02, 0x00], "boot exception");
+    assert_eq!(exchange(&mut avr, &[0x05, 0x02, 0x01, 0x00, 0x01], 1), [0x00]);
+    assert_eq!(read_master(&mut avr, &[11], 2), [0x00, 0x00]);
+}
+
+#[test]
+fn library_read_set_2_gives_22_bytes() {
+    let (mut avr, _) = boot();
+    let set2 = [0x0e, 0x04, 0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11];
+    assert_eq!(exchange(&mut avr, &set2, 1), [0x0b]);
+    let reply = exchange(&mut avr, &[0x03, 0x03, 0x02], 22);
+    let mut expected = [0xaa, 0x2a].repeat(10);
+    expected.extend_from_slice(&[0x02, 0x00]);
+    assert_eq!(reply, expected);
+}
+
+#[test]
+fn corrected_manual_example_2_sets_a_read_set_of_four() {
+    let (mut avr, _) = boot();
+    assert_eq!(exchange(&mut avr, &[0x07, 0x04, 0x01, 0x00, 0x01, 0x02, 0x03], 1), [0x04]);
+    // Set 1 on device 0 = RESET (1 byte), TEMPAMBIENT, TEMP1, TEMP2 (2 bytes each).
+    assert_eq!(
+        exchange(&mut avr, &[0x03, 0x03, 0x01], 7),
+        [0x00, 0xaa, 0x2a, 0xaa, 0x2a, 0xaa, 0x2a]
+    );
+}
+
+#[test]
+fn bad_input_gets_defined_answers_and_changes_nothing() {
+    let (mut avr, _) = boot();
+    // Read-only register: error reply, the reset in the same frame is not applied.
+    assert_eq!(
+        exchange(&mut avr, &[0x08, 0x02, 0x02, 0x00, 0x01, 0x02, 0x00, 0x00], 1),
+        [0x89]
+    );
+    // Device 10..15: the original halted; here an error reply, or silence for a read.
+    assert_eq!(exchange(&mut avr, &[0x05, 0xa2, 0x01, 0x00, 0x01], 1), [0x82]);
+    silence(&mut avr, &[0x03, 0xf3, 0x00]);
+    // Unknown command, empty read set, read set 8.
+    silence(&mut avr, &[0x03, 0x05, 0x00]);
+    silence(&mut avr, &[0x03, 0x03, 0x05]);
+    silence(&mut avr, &[0x03, 0x03, 0x08]);
+    // Oversize set.
+    let mut big = vec![28, 0x04, 0x03];
+    big.extend(0..25u8);
+    assert_eq!(exchange(&mut avr, &big, 1), [0x87]);
+    // Zero and one as a length byte end at once.
+    silence(&mut avr, &[0x00]);
+    silence(&mut avr, &[0x01]);
+    // The master is still in its boot exception; the last error was the short length
+    // byte (code 1), and it counted all nine bad frames.
+    assert_eq!(read_master(&mut avr, &[11, 12, 13], 5), [0x02, 0x00, 1, 9, 0]);
+}
+
+#[test]
+fn a_frame_that_stops_arriving_is_dropped_and_the_link_recovers() {
+    let (mut avr, _) = boot();
+    // Garbage: a length byte of 0x40 and two more bytes, then nothing for 100 ms.
+    silence(&mut avr, &[0x40, 0x12, 0x01]);
+    avr.run_us(100_000);
+    assert_eq!(exchange(&mut avr, &[0x05, 0x02, 0x01, 0x00, 0x01], 1), [0x00]);
+    assert_eq!(read_master(&mut avr, &[11, 12, 13], 5), [0x00, 0x00, 8, 1, 0]);
+}
+
+#[test]
+fn writes_to_slaves_without_a_bus_say_so() {
+    let (mut avr, _) = boot();
+    assert_eq!(exchange(&mut avr, &[0x06, 0x12, 0x01, 0x09, 0xfe, 0x9f], 1), [0x8c]);
+}
