@@ -60,6 +60,6 @@ pub use avr::{firmware_path, Avr, F_CPU};
 pub use error::HarnessError;
 pub use memory::EEPROM_SIZE;
 pub use pin::{uno, Pin};
-pub use pty::Pty;
+pub use pty::{HostEvent, Pty};
 pub use simavr_ffi;
 pub use state::CpuState;
