@@ -13,6 +13,7 @@ pub mod eeprom;
 pub mod pin;
 pub mod sleep;
 pub mod tick;
+pub mod twi;
 pub mod usart;
 pub mod watchdog;
 

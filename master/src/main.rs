@@ -26,7 +26,11 @@ use drivers::pin::{Output, PORTB};
 use drivers::tick::Tick;
 use drivers::usart::Usart0;
 use drivers::watchdog::{Timeout, Watchdog};
+use drivers::twi::TwiMaster;
 use link::{Clock, RxEvent, RxQueue, TxQueue};
+use relay::TwiRelay;
+use shared::master::SlaveBus;
+use shared::regs::id::REG_RESET;
 use shared::master::Service;
 use shared::protocol::Parser;
 
@@ -48,13 +52,14 @@ executor::app! {
         service: Service,
         watchdog: Watchdog,
         status_led: StatusLed,
+        relay: TwiRelay,
         _tick: Tick,
     }
 
     #[init]
     fn init;
 
-    #[idle(shared = [rx, tx, clock], local = [parser, service, watchdog, status_led])]
+    #[idle(shared = [rx, tx, clock], local = [parser, service, watchdog, status_led, relay])]
     fn idle;
 
     #[task(binds = USART_RX, priority = 3, shared = [usart, rx])]
@@ -87,6 +92,7 @@ fn init(cx: init::Context) -> (Shared, Local) {
             service: Service::new(),
             watchdog,
             status_led,
+            relay: TwiRelay::new(TwiMaster::new(dp.TWI, relay::BUS_KHZ)),
             _tick: Tick::start(dp.TC0),
         },
     )
@@ -94,12 +100,17 @@ fn init(cx: init::Context) -> (Shared, Local) {
 
 fn idle(mut cx: idle::Context) -> ! {
     banner::starting(&mut link::Replies::new(&mut cx.shared.tx));
-    // (OneWire discovery, RC set-up and the slaves' hard reset come here with issue 6.)
+    // Hard-reset every slave (REG_RESET = 2): each reboots into its boot exception with
+    // its defaults, as after the original master's boot.
+    for device in 1..=9 {
+        let _ = cx.local.relay.write_register(device, REG_RESET, &[2]);
+        cx.local.watchdog.feed();
+    }
     cx.local.watchdog.start(Timeout::Ms125);
     banner::finish(&mut link::Replies::new(&mut cx.shared.tx));
     cx.local.status_led.set_low();
 
-    let mut bus = relay::NoSlaves;
+    let bus = &mut *cx.local.relay;
     let mut last_byte_ms = 0u32;
     loop {
         cx.local.watchdog.feed();
@@ -112,7 +123,7 @@ fn idle(mut cx: idle::Context) -> ! {
                         let mut out = link::Replies::new(&mut cx.shared.tx);
                         cx.local
                             .service
-                            .execute(frame, &mut bus, &mut |r| out.send(r));
+                            .execute(frame, bus, &mut |r| out.send(r));
                     }
                 }
                 RxEvent::Error(e) => {

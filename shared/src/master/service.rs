@@ -12,8 +12,16 @@ pub struct BusError;
 pub trait SlaveBus {
     /// Writes one register: the id, then its value bytes (LSB first).
     fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError>;
-    /// Reads `out.len()` bytes of register `id` (and, past its size, the following ones).
-    fn read_registers(&mut self, device: u8, id: u8, out: &mut [u8]) -> Result<(), BusError>;
+    /// Reads `len` bytes starting at register `first` in one transaction (a slave's read
+    /// continues past a register into the following ones), handing each byte to `sink`
+    /// as it arrives so it can go out on the serial line while the rest is on the bus.
+    fn read_run(
+        &mut self,
+        device: u8,
+        first: u8,
+        len: u8,
+        sink: &mut dyn FnMut(u8),
+    ) -> Result<(), BusError>;
 }
 
 /// Byte a register the device does not have reads as (the manual's dummy byte).
@@ -111,9 +119,10 @@ impl Service {
         Ok(())
     }
 
-    /// A read frame: each id of the set, sized by the device's table, LSB first. A
-    /// missing register reads as one 0xcd byte (and is recorded); a slave that stops
-    /// answering ends the reply early.
+    /// A read frame: each id of the set, sized by the device's table, LSB first. Ids that
+    /// follow each other (n, n+1, …) are fetched from a slave as one run in one
+    /// transaction. A missing register reads as one 0xcd byte (and is recorded); a slave
+    /// that stops answering ends the reply early.
     fn read(
         &mut self,
         device: u8,
@@ -130,22 +139,26 @@ impl Service {
             return Err(LinkError::EmptyReadSet);
         }
         let mut missing = false;
-        for &reg in ids {
-            let Some(size) = kind.size_of(reg) else {
+        let mut rest = ids;
+        while let [first, ..] = rest {
+            let Some(size) = kind.size_of(*first) else {
                 reply(MISSING_REGISTER_BYTE);
                 missing = true;
+                rest = &rest[1..];
                 continue;
             };
-            let mut buf = [0u8; 2];
-            let buf = &mut buf[..usize::from(size).min(2)];
             if device == 0 {
-                let raw = self.local.read(reg).unwrap_or(0).to_le_bytes();
-                buf.copy_from_slice(&raw[..buf.len()]);
-            } else {
-                bus.read_registers(device, reg, buf)
-                    .map_err(|_| LinkError::NoAnswer)?;
+                let raw = self.local.read(*first).unwrap_or(0).to_le_bytes();
+                raw[..usize::from(size).min(2)]
+                    .iter()
+                    .for_each(|&b| reply(b));
+                rest = &rest[1..];
+                continue;
             }
-            buf.iter().for_each(|&b| reply(b));
+            let (count, bytes) = run_of(kind, rest);
+            bus.read_run(device, *first, bytes, reply)
+                .map_err(|_| LinkError::NoAnswer)?;
+            rest = &rest[count..];
         }
         if missing {
             Err(LinkError::MissingRegister)
@@ -153,4 +166,22 @@ impl Service {
             Ok(())
         }
     }
+}
+
+/// The run at the start of `ids`: how many ids follow each other (n, n+1, …) and exist on
+/// the board, and their total size in bytes.
+fn run_of(kind: BoardKind, ids: &[u8]) -> (usize, u8) {
+    let mut count = 0;
+    let mut bytes = 0u8;
+    for (i, &id) in ids.iter().enumerate() {
+        let follows = i == 0 || ids[i - 1].checked_add(1) == Some(id);
+        match kind.size_of(id) {
+            Some(size) if follows => {
+                count += 1;
+                bytes = bytes.saturating_add(size);
+            }
+            _ => break,
+        }
+    }
+    (count, bytes)
 }

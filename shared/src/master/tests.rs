@@ -22,13 +22,20 @@ impl SlaveBus for FakeBus {
         Ok(())
     }
 
-    fn read_registers(&mut self, device: u8, id: u8, out: &mut [u8]) -> Result<(), BusError> {
+    fn read_run(
+        &mut self,
+        device: u8,
+        first: u8,
+        len: u8,
+        sink: &mut dyn FnMut(u8),
+    ) -> Result<(), BusError> {
         if self.silent.contains(&device) {
             return Err(BusError);
         }
-        self.reads.push((device, id, out.len()));
-        for (i, b) in out.iter_mut().enumerate() {
-            *b = id.wrapping_mul(2).wrapping_add(i as u8);
+        self.reads.push((device, first, usize::from(len)));
+        // A slave's register file as bytes: register r's bytes are 2r, 2r+1.
+        for i in 0..len {
+            sink(first.wrapping_mul(2).wrapping_add(i));
         }
         Ok(())
     }
@@ -117,9 +124,39 @@ fn slave_reads_follow_the_set_and_the_board_table() {
     assert_eq!(run(&mut s, &mut bus, &set1), [18]);
     let reply = run(&mut s, &mut bus, &[0x03, 0x33, 0x01]);
     assert_eq!(reply.len(), 36);
-    assert_eq!(&reply[..4], &[2, 3, 4, 5]); // ids 1 and 2, two bytes each
-    assert_eq!(bus.reads.len(), 18);
-    assert!(bus.reads.iter().all(|&(dev, _, n)| dev == 3 && n == 2));
+    assert_eq!(&reply[..4], &[2, 3, 4, 5]); // the run from id 1
+                                            // Contiguous ids go as one run each: 1-3, 5, 16-22, 34-40 (all 2-byte on LL here).
+    assert_eq!(
+        bus.reads,
+        vec![(3, 1, 6), (3, 5, 2), (3, 16, 14), (3, 34, 14)]
+    );
+}
+
+#[test]
+fn library_set_0_on_a_drive_board_is_five_runs_of_mixed_sizes() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let set0 = [
+        0x17, 0x14, 0x00, 1, 2, 3, 5, 44, 16, 17, 18, 19, 20, 21, 22, 23, 33, 34, 35, 36, 37, 38,
+        39,
+    ];
+    assert_eq!(run(&mut s, &mut bus, &set0), [20]);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x13, 0x00]).len(), 40);
+    assert_eq!(
+        bus.reads,
+        vec![(1, 1, 6), (1, 5, 2), (1, 44, 2), (1, 16, 16), (1, 33, 14)]
+    );
+}
+
+#[test]
+fn a_run_stops_at_a_one_byte_gap_in_sizes_correctly() {
+    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    // LL ids 22 (2 bytes), 23, 24, 25, 26 (1 byte each): one run of 6 bytes.
+    assert_eq!(
+        run(&mut s, &mut bus, &[0x08, 0x34, 0x04, 22, 23, 24, 25, 26]),
+        [5]
+    );
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x33, 0x04]).len(), 6);
+    assert_eq!(bus.reads, vec![(3, 22, 6)]);
 }
 
 #[test]
@@ -129,7 +166,7 @@ fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
         run(&mut s, &mut bus, &[0x05, 0xa2, 0x01, 0x00, 0x01]),
         [0x82]
     );
-    assert_eq!(run(&mut s, &mut bus, &[0x03, 0xf3, 0x00]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0xf3, 0x00]), [0u8; 0]);
     assert_eq!(s.local.read(id::REGMASTER_LASTERROR), Some(2));
     assert_eq!(s.local.error_count(), 2);
     assert!(bus.writes.is_empty() && bus.reads.is_empty());
@@ -138,15 +175,15 @@ fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
 #[test]
 fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write() {
     let (mut s, mut bus) = (Service::new(), FakeBus::default());
-    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x15, 0x00]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x15, 0x00]), [0u8; 0]);
     assert_eq!(
         s.local.last_error(),
         Some(LinkError::Frame(FrameError::UnknownCommand))
     );
-    assert_eq!(run(&mut s, &mut bus, &[0x00]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x00]), [0u8; 0]);
     // L = 2 with a write header: a write's one-byte reply can carry the error.
     assert_eq!(run(&mut s, &mut bus, &[0x02, 0x12]), [0x81]);
-    assert_eq!(run(&mut s, &mut bus, &[0x02, 0x13]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x02, 0x13]), [0u8; 0]);
     assert_eq!(
         s.local.last_error(),
         Some(LinkError::Frame(FrameError::BadLength))
@@ -157,7 +194,7 @@ fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write()
 #[test]
 fn empty_set_and_missing_registers() {
     let (mut s, mut bus) = (Service::new(), FakeBus::default());
-    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x03, 0x05]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x03, 0x05]), [0u8; 0]);
     assert_eq!(s.local.last_error(), Some(LinkError::EmptyReadSet));
     // Set 6 = [EXCEPTIONDATA, 14 (no such register), LASTERROR].
     assert_eq!(run(&mut s, &mut bus, &[0x06, 0x04, 0x06, 11, 14, 12]), [3]);
@@ -174,7 +211,7 @@ fn oversize_set_gets_an_error_reply_that_no_count_can_equal() {
     assert_eq!(run(&mut s, &mut bus, &frame), [0x87]);
     assert_eq!(
         run(&mut s, &mut bus, &[0x03, 0x03, 0x03]),
-        [],
+        [0u8; 0],
         "set 3 stayed empty"
     );
 }
@@ -188,7 +225,7 @@ fn a_silent_slave_is_reported_and_the_master_keeps_answering() {
         [0x8c]
     );
     assert_eq!(run(&mut s, &mut bus, &[0x04, 0x04, 0x00, 0x01]), [1]);
-    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x43, 0x00]), []);
+    assert_eq!(run(&mut s, &mut bus, &[0x03, 0x43, 0x00]), [0u8; 0]);
     assert_eq!(s.local.last_error(), Some(LinkError::NoAnswer));
     // Device 0 still answers.
     assert_eq!(run(&mut s, &mut bus, &[0x05, 0x02, 0x01, 0x00, 0x01]), [0]);
