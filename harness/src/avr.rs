@@ -91,6 +91,9 @@ pub struct Avr {
     state: CpuState,
     /// Absolute cycle of the pending deadline timer, if one is scheduled.
     deadline_at: Option<u64>,
+    /// Records behind the hardware-fidelity hooks ([`crate::fidelity`]); they must outlive
+    /// the core, which `Drop` terminates before the fields are dropped.
+    _fidelity: Vec<Box<crate::fidelity::Chained>>,
 }
 
 /// Replacement for simavr's sleep callback, which would sleep in real time to
@@ -203,7 +206,9 @@ impl Avr {
             watchdog_resets: 0,
             state: CpuState::Running,
             deadline_at: None,
+            _fidelity: Vec::new(),
         };
+        avr._fidelity = crate::fidelity::install(avr.raw.as_ptr());
         avr.install_uart_hooks();
         // A power-on reset: MCUSR.PORF set, as the chip reports after power-up.
         avr.write_data(MCUSR, PORF);

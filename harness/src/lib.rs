@@ -48,6 +48,7 @@ mod avr;
 pub mod bus;
 mod elf;
 mod error;
+mod fidelity;
 mod gpio;
 mod memory;
 mod pin;
