@@ -93,6 +93,8 @@ pub struct Avr {
     deadline_at: Option<u64>,
     /// Records behind the hardware-fidelity hooks ([`crate::fidelity`]); they must outlive
     /// the core, which `Drop` terminates before the fields are dropped.
+    // Boxed so each record keeps its address (simavr holds it) when the Vec grows.
+    #[allow(clippy::vec_box)]
     _fidelity: Vec<Box<crate::fidelity::Chained>>,
 }
 

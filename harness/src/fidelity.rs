@@ -29,6 +29,8 @@ pub(crate) struct Chained {
 ///
 /// The hook replaces the register's write handler and calls the old one itself (simavr's
 /// own chaining has room for only a few registers).
+// Boxed so each record keeps its address (simavr holds it) when the Vec grows.
+#[allow(clippy::vec_box)]
 pub(crate) fn install(p: *mut ffi::avr_t) -> Vec<Box<Chained>> {
     let mut records = Vec::new();
     let mut regs: Vec<u16> = Vec::new();
@@ -121,4 +123,3 @@ unsafe extern "C" fn write_then_reraise(avr: *mut ffi::avr_t, addr: u16, v: u8, 
         }
     }
 }
-

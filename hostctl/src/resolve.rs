@@ -255,10 +255,11 @@ mod tests {
 
     #[test]
     fn numbers_beyond_the_table_are_refused() {
-        let err = register(ds(), "45").unwrap_err();
+        // The original 45 registers plus this project's 45 (FAULTTIME) and 46 (DRIVE_MODE).
+        let err = register(ds(), "47").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "device 1 (DS table) has registers 0..44; there is no register 45"
+            "device 1 (DS table) has registers 0..46; there is no register 47"
         );
         let err = register(device("0").unwrap(), "14").unwrap_err();
         assert_eq!(

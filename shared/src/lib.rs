@@ -16,5 +16,7 @@
 pub mod exception;
 pub mod mapping;
 pub mod master;
+pub mod pid;
 pub mod protocol;
 pub mod regs;
+pub mod slave;

@@ -3,14 +3,26 @@
 //! record behind REGMASTER_LASTERROR / REGMASTER_ERRORCOUNT. The firmware only moves
 //! bytes; the I2C relay is behind the [`SlaveBus`] trait, so all of this runs on the host
 //! against fake buses.
+//!
+//! Also the master's other decisions: the schedule of slave traffic (boot resets, ping,
+//! exception spreading, silent-slave detection) in [`ping`], the temperature sensors in
+//! [`temperature`], remote control in [`rc`] and the PC link's inter-byte timeout in
+//! [`timeout`].
 
 mod error;
 mod local;
+pub mod ping;
+pub mod rc;
 mod service;
+pub mod temperature;
+pub mod timeout;
 
 pub use error::{LinkError, ERROR_REPLY_FLAG};
 pub use local::LocalRegisters;
+pub use ping::{Action, Outcome, RegWrite, Schedule};
+pub use rc::Remote;
 pub use service::{BusError, Service, SlaveBus};
+pub use timeout::InterByteTimeout;
 
 #[cfg(test)]
 mod tests;

@@ -17,9 +17,11 @@ fn encode_write_errors() {
         encode_write(10, &[w(0, 1)], &mut out),
         Err(EncodeError::UnknownDevice)
     );
+    // The first id past the DS table (45 in the original; the table has grown since).
+    let past = BoardKind::DriveSteer.len();
     assert_eq!(
-        encode_write(1, &[w(9, 0), w(45, 0)], &mut out),
-        Err(EncodeError::UnknownRegister(45))
+        encode_write(1, &[w(9, 0), w(past, 0)], &mut out),
+        Err(EncodeError::UnknownRegister(past))
     );
     assert_eq!(
         encode_write(0, &[w(14, 0)], &mut out),
@@ -90,7 +92,8 @@ fn reply_length_depends_on_the_board() {
     assert_eq!(read_reply_len(BoardKind::LiftLift, &[23, 44]), Some(2));
     assert_eq!(read_reply_len(BoardKind::Master, &[0, 11]), Some(3));
     assert_eq!(read_reply_len(BoardKind::Master, &[14]), None);
-    assert_eq!(read_reply_len(BoardKind::DriveSteer, &[45]), None);
+    let past = BoardKind::DriveSteer.len();
+    assert_eq!(read_reply_len(BoardKind::DriveSteer, &[past]), None);
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[]), Some(0));
 }
 

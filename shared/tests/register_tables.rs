@@ -120,6 +120,14 @@ const MASTER_ADDED: [Expect; 2] = [
     (13, "REGMASTER_ERRORCOUNT", 2, R, NONE),
 ];
 
+/// Registers this project adds after the original DS table (stall/fault timing, drive mode).
+const DS_ADDED: [Expect; 2] = [
+    (45, "REGDS_FAULTTIME", 2, W, NONE),
+    (46, "REGDS_DRIVE_MODE", 1, W, NONE),
+];
+/// Registers this project adds after the original LL table (stall/fault timing).
+const LL_ADDED: [Expect; 1] = [(45, "REGLL_FAULTTIME", 2, W, NONE)];
+
 const MASTER: [Expect; 12] = [
     (0, "REGMASTER_RESET", 1, W, NONE),
     (1, "REGMASTER_TEMPAMBIENT", 2, R, TEMP),
@@ -186,16 +194,20 @@ fn common_block_matches_reference() {
 
 #[test]
 fn ds_table_is_common_plus_its_own_block() {
+    // The original's 45 registers, unchanged, then this project's additions.
     let mut expected = owned(&COMMON);
     expected.extend(owned(&DS_OWN));
     assert_eq!(expected.len(), 45);
+    expected.extend(owned(&DS_ADDED));
     assert_eq!(actual(BoardKind::DriveSteer.table()), expected);
 }
 
 #[test]
 fn ll_table_is_common_plus_one_and_two_blocks() {
-    let expected = ll_expected();
+    // The original's 45 registers, unchanged, then this project's additions.
+    let mut expected = ll_expected();
     assert_eq!(expected.len(), 45);
+    expected.extend(owned(&LL_ADDED));
     assert_eq!(actual(BoardKind::LiftLift.table()), expected);
 }
 
@@ -234,7 +246,9 @@ fn flag_bytes_match_the_original_encoding() {
     assert_eq!(ds.flag_byte(id::REG_RESET), Some(65));
     assert_eq!(ds.flag_byte(id::REGDS_DRIVE_REQSPEED), Some(66));
     assert_eq!(ds.flag_byte(id::REG_TIMER), Some(2));
-    assert_eq!(ds.flag_byte(45), None);
+    assert_eq!(ds.flag_byte(id::REGDS_FAULTTIME), Some(66));
+    assert_eq!(ds.flag_byte(id::REGDS_DRIVE_MODE), Some(65));
+    assert_eq!(ds.flag_byte(47), None);
     assert_eq!(
         ds.register(id::REGDS_STEER_CALIBMIN).unwrap().flag_byte(),
         65
@@ -285,8 +299,8 @@ fn devices_map_to_board_kinds() {
         assert_eq!(BoardKind::of_device(device), kind, "device {device}");
     }
     assert_eq!(BoardKind::Master.table().len(), 12 + MASTER_ADDED.len());
-    assert_eq!(BoardKind::DriveSteer.table().len(), 45);
-    assert_eq!(BoardKind::LiftLift.table().len(), 45);
+    assert_eq!(BoardKind::DriveSteer.table().len(), 45 + DS_ADDED.len());
+    assert_eq!(BoardKind::LiftLift.table().len(), 45 + LL_ADDED.len());
 }
 
 #[test]

@@ -1,0 +1,102 @@
+//! Which slaves answer: present, missed once, silent; and when each was last tried.
+//!
+//! A slave is *present* once it has answered after the boot settling time. Only present
+//! slaves can go *silent*: a rover built with fewer boards (the PC library's pair mask)
+//! has slaves that never answer, and they must not hold the master in exception forever.
+//! One failed access marks a present slave *missed* and asks for an immediate re-check;
+//! a second consecutive failure makes it silent. Any answer clears both marks.
+
+/// Bit of slave `device` (1..9) in a mask; 0 for any other number.
+pub(crate) const fn bit(device: u8) -> u16 {
+    if device >= 1 && device <= 9 {
+        1 << device
+    } else {
+        0
+    }
+}
+
+/// What one failed access means.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Miss {
+    /// Not a present slave: nothing to conclude.
+    Ignored,
+    /// The first miss: check the slave again at once.
+    Recheck,
+    /// The slave is silent (again): raise SlaveSilent.
+    Silent,
+}
+
+/// Answering state of slaves 1..9, one bit each, and the time (ms, wrapping at 2¹⁶) each
+/// present slave was last accessed, answered or not.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) struct Health {
+    pub present: u16,
+    pub missed: u16,
+    pub silent: u16,
+    tried_ms: [u16; 10],
+}
+
+impl Health {
+    /// Nothing known.
+    pub const fn new() -> Self {
+        Health {
+            present: 0,
+            missed: 0,
+            silent: 0,
+            tried_ms: [0; 10],
+        }
+    }
+
+    /// Records an access to `device` at `now_ms`.
+    fn tried(&mut self, device: u8, now_ms: u32) {
+        if let Some(t) = self.tried_ms.get_mut(usize::from(device)) {
+            *t = now_ms as u16;
+        }
+    }
+
+    /// The slave answered an access at `now_ms`.
+    pub fn answered(&mut self, device: u8, now_ms: u32) {
+        let b = bit(device);
+        self.present |= b;
+        self.missed &= !b;
+        self.silent &= !b;
+        self.tried(device, now_ms);
+    }
+
+    /// The slave failed to answer an access at `now_ms`.
+    pub fn failed(&mut self, device: u8, now_ms: u32) -> Miss {
+        let b = bit(device);
+        if self.present & b == 0 {
+            return Miss::Ignored;
+        }
+        self.tried(device, now_ms);
+        if self.silent & b != 0 {
+            Miss::Silent
+        } else if self.missed & b != 0 {
+            self.missed &= !b;
+            self.silent |= b;
+            Miss::Silent
+        } else {
+            self.missed |= b;
+            Miss::Recheck
+        }
+    }
+
+    /// The present slave accessed longest ago at `now_ms` and how long ago (ms); the
+    /// lowest number wins a tie. `None` if no slave is present.
+    pub fn stalest(&self, now_ms: u32) -> Option<(u8, u16)> {
+        let now = now_ms as u16;
+        let mut best: Option<(u8, u16)> = None;
+        for d in 1..=9u8 {
+            if self.present & bit(d) == 0 {
+                continue;
+            }
+            let tried = self.tried_ms.get(usize::from(d)).copied().unwrap_or(now);
+            let age = now.wrapping_sub(tried);
+            if best.is_none_or(|(_, a)| age > a) {
+                best = Some((d, age));
+            }
+        }
+        best
+    }
+}

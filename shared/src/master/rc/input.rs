@@ -1,0 +1,79 @@
+//! RC receiver input: pulse widths from pin changes, and their normalised values.
+//!
+//! Normalised values are integers in thousandths: −1000..=1000 stands for −1.0..=1.0.
+
+/// Channels: 0 = drive (D2), 1 = steer (D3), 2 = mode (D4).
+pub const CHANNELS: usize = 3;
+
+/// (mn, mx) per channel, in µs: mn maps to −1, mx to +1 (reference §9.2). The drive and
+/// steer channels run backwards (mn > mx).
+pub const CALIBRATION: [(u16, u16); CHANNELS] = [(1940, 1000), (1738, 940), (910, 1800)];
+
+/// |value| below this (0.1) reads as 0.
+pub const INPUT_DEADBAND: i16 = 100;
+
+/// A channel's normalised value in thousandths:
+/// clamp((w − mn)·2/(mx − mn), 0, 2) − 1, then |value| < 0.1 → 0. `None` for a channel
+/// number above 2.
+pub fn normalise(channel: usize, width_us: u16) -> Option<i16> {
+    let (mn, mx) = CALIBRATION.get(channel).copied()?;
+    let span = i32::from(mx) - i32::from(mn);
+    // |w − mn| ≤ 65535, so the product fits an i32; span is never 0.
+    let scaled = (i32::from(width_us) - i32::from(mn)) * 2000 / span;
+    // 0..=2000 minus 1000 fits an i16.
+    let value = (scaled.clamp(0, 2000) - 1000) as i16;
+    Some(if value.abs() < INPUT_DEADBAND {
+        0
+    } else {
+        value
+    })
+}
+
+/// Measures pulse widths on the three channel pins from pin-change interrupts. It is
+/// small enough for the interrupt handler: the handler reads the pins and the µs clock
+/// and hands the finished widths over.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PulseTimer {
+    /// Pin levels at the last change, bit c for channel c.
+    levels: u8,
+    /// Channels whose rising edge has been seen.
+    rising_seen: u8,
+    /// µs clock at each channel's last rising edge.
+    rise_us: [u32; CHANNELS],
+}
+
+impl PulseTimer {
+    /// No edges seen; all pins low.
+    pub const fn new() -> Self {
+        PulseTimer {
+            levels: 0,
+            rising_seen: 0,
+            rise_us: [0; CHANNELS],
+        }
+    }
+
+    /// A pin change at `now_us` (the µs clock, wrapping): `levels` bit c is channel c's
+    /// level now. Returns, per channel, the width of a pulse that ended now (µs, capped
+    /// at 65535).
+    pub fn change(&mut self, levels: u8, now_us: u32) -> [Option<u16>; CHANNELS] {
+        let mut widths = [None; CHANNELS];
+        for (c, width) in widths.iter_mut().enumerate() {
+            let mask = 1u8 << c;
+            let was = self.levels & mask != 0;
+            let is = levels & mask != 0;
+            match (was, is) {
+                (false, true) => {
+                    self.rise_us[c] = now_us;
+                    self.rising_seen |= mask;
+                }
+                (true, false) if self.rising_seen & mask != 0 => {
+                    let w = now_us.wrapping_sub(self.rise_us[c]);
+                    *width = Some(u16::try_from(w).unwrap_or(u16::MAX));
+                }
+                _ => {}
+            }
+        }
+        self.levels = levels;
+        widths
+    }
+}

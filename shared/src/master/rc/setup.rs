@@ -1,0 +1,102 @@
+//! The writes the master sends the first time the RC link comes up after a boot
+//! (reference §9.2): exceptions reset on devices 0..9, then drive and steer parameters
+//! and the steer calibration on every drive/steer board. Lifts are not written.
+//!
+//! Values are raw register values, precomputed so the firmware needs no float; a host
+//! test maps the engineering values with `mapping::map` and checks each one.
+
+use crate::master::ping::RegWrite;
+use crate::regs::id;
+
+/// The drive/steer controllers of wheels 1..6.
+pub const DS_CONTROLLERS: [u8; 6] = [1, 2, 4, 5, 7, 8];
+
+/// Drive block: P 0.01, I 0, D 0, cap 0, decay 0, overcurrent 500, stall check 255.
+pub const DRIVE_BLOCK: [(u8, u16); 7] = [
+    (id::REGDS_DRIVE_PGAIN, 0x0041),
+    (id::REGDS_DRIVE_IGAIN, 0x0000),
+    (id::REGDS_DRIVE_DGAIN, 0x7fff),
+    (id::REGDS_DRIVE_INTEGRALCAP, 0x0000),
+    (id::REGDS_DRIVE_INTEGRALDECAY, 0x0000),
+    (id::REGDS_DRIVE_OVERCURRENTTHRESH, 0x7fff),
+    (id::REGDS_DRIVE_STALLCHECK, 0xfe),
+];
+
+/// Steer block without calibration: P 0, I 6, D 0, cap 300, decay 0.9, overcurrent
+/// 500, stall check 255, dead zone 1.
+pub const STEER_BLOCK: [(u8, u16); 8] = [
+    (id::REGDS_STEER_PGAIN, 0x0000),
+    (id::REGDS_STEER_IGAIN, 0x9998),
+    (id::REGDS_STEER_DGAIN, 0x7fff),
+    (id::REGDS_STEER_INTEGRALCAP, 0x4ccc),
+    (id::REGDS_STEER_INTEGRALDECAY, 0xe664),
+    (id::REGDS_STEER_OVERCURRENTTHRESH, 0x7fff),
+    (id::REGDS_STEER_STALLCHECK, 0xfe),
+    (id::REGDS_STEER_DEADZONE, 0x05),
+];
+
+/// Steer calibration (CALIBMIN, CALIBMAX) raw bytes of wheels 1..6 (reference §8.3).
+pub const STEER_CALIBRATION: [(u8, u8); 6] = [
+    (0x43, 0xc4),
+    (0x3d, 0xbd),
+    (0x40, 0xc2),
+    (0x3f, 0xc3),
+    (0x39, 0xbb),
+    (0x3d, 0xbe),
+];
+
+/// Writes per drive/steer board: the drive block, the steer block, CALIBMIN, CALIBMAX.
+const PER_BOARD: usize = DRIVE_BLOCK.len() + STEER_BLOCK.len() + 2;
+/// REG_RESET writes to devices 0..9.
+const RESETS: usize = 10;
+/// All the writes of the first link-up.
+pub const LINK_UP_WRITES: usize = RESETS + DS_CONTROLLERS.len() * PER_BOARD;
+
+/// The first link-up's writes, in order: REG_RESET = 1 to devices 0..9 (device 0 is the
+/// master itself: it clears the master exception), then for each drive/steer board in
+/// wheel order the drive block, the steer block and the calibration.
+#[derive(Clone, Debug, Default)]
+pub struct LinkUpWrites {
+    next: usize,
+}
+
+impl LinkUpWrites {
+    /// From the first write.
+    pub const fn new() -> Self {
+        LinkUpWrites { next: 0 }
+    }
+}
+
+/// Write number `n` of the first link-up.
+fn link_up_write(n: usize) -> Option<RegWrite> {
+    if n < RESETS {
+        return Some(RegWrite::byte(n as u8, id::REG_RESET, 1));
+    }
+    let k = n - RESETS;
+    let wheel = k / PER_BOARD;
+    let device = *DS_CONTROLLERS.get(wheel)?;
+    let item = k % PER_BOARD;
+    let (reg, raw) = if let Some(&w) = DRIVE_BLOCK.get(item) {
+        w
+    } else if let Some(&w) = STEER_BLOCK.get(item - DRIVE_BLOCK.len()) {
+        w
+    } else {
+        let (min, max) = *STEER_CALIBRATION.get(wheel)?;
+        if item == PER_BOARD - 2 {
+            (id::REGDS_STEER_CALIBMIN, u16::from(min))
+        } else {
+            (id::REGDS_STEER_CALIBMAX, u16::from(max))
+        }
+    };
+    RegWrite::sized(device, reg, raw)
+}
+
+impl Iterator for LinkUpWrites {
+    type Item = RegWrite;
+
+    fn next(&mut self) -> Option<RegWrite> {
+        let w = link_up_write(self.next)?;
+        self.next += 1;
+        Some(w)
+    }
+}

@@ -1,0 +1,240 @@
+//! The drive encoder: edge counting in the interrupt, speed measurement in the control
+//! tick (reference §7.3), and the odometer.
+//!
+//! Two speed measurements, chosen by REGDS_DRIVE_MODE:
+//! - **Window** (mode 0, the original): the drive updates on the first tick more than
+//!   150 ms after the previous update; speed = N·10⁶/T ticks/s for the N rising edges of A
+//!   counted over the T µs since then.
+//! - **Edge timing** (mode 1, new): the drive updates every 10 ms; speed = n·10⁶/Δt for
+//!   the n edges since the last update and the Δt µs between the last edge before them
+//!   and the last edge among them. Without a new edge, the speed falls to the bound that
+//!   the time since the last edge sets (10⁶/elapsed), and to 0 after 100 ms.
+//!
+//! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
+
+use crate::pid::Fix;
+
+/// The original's window: the drive updates on the first tick more than this long after
+/// the previous update.
+pub const WINDOW_US: u32 = 150_000;
+/// The update period of the edge-timing mode (100 Hz).
+pub const FAST_PERIOD_US: u32 = 10_000;
+/// Edge timing: with no edge for this long, the speed is 0 (below 10 ticks/s).
+pub const FAST_TIMEOUT_US: u32 = 100_000;
+
+/// The drive's control mode (REGDS_DRIVE_MODE).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum DriveMode {
+    /// 0: the original 150-ms window and edge count.
+    Window,
+    /// 1: every 10 ms, speed from edge timing.
+    EdgeTiming,
+}
+
+impl DriveMode {
+    /// The mode a register value selects: 1 is edge timing, anything else the window.
+    pub const fn from_register(raw: u16) -> DriveMode {
+        if raw == 1 {
+            DriveMode::EdgeTiming
+        } else {
+            DriveMode::Window
+        }
+    }
+}
+
+/// The encoder interrupt's counts (PCINT2, on each rising edge of A), kept until the
+/// control tick takes them. Eight bytes; each edge costs two increments and a store.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct EdgeCounter {
+    sample: EdgeSample,
+}
+
+/// The edges since the previous take.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct EdgeSample {
+    /// Rising edges of A.
+    pub rising: u16,
+    /// Of those, the edges at which B was high.
+    pub b_high: u16,
+    /// When the last edge came (µs, the clock the tick gets); kept across takes.
+    pub last_edge_us: u32,
+}
+
+impl EdgeCounter {
+    /// No edges yet.
+    pub const fn new() -> EdgeCounter {
+        EdgeCounter {
+            sample: EdgeSample {
+                rising: 0,
+                b_high: 0,
+                last_edge_us: 0,
+            },
+        }
+    }
+
+    /// Counts a rising edge of A at `now_us`; `b_high` is B's level then.
+    pub fn rising_edge(&mut self, now_us: u32, b_high: bool) {
+        self.sample.rising = self.sample.rising.wrapping_add(1);
+        if b_high {
+            self.sample.b_high = self.sample.b_high.wrapping_add(1);
+        }
+        self.sample.last_edge_us = now_us;
+    }
+
+    /// The edges since the previous take; the counts restart at zero.
+    pub fn take(&mut self) -> EdgeSample {
+        let sample = self.sample;
+        self.sample.rising = 0;
+        self.sample.b_high = 0;
+        sample
+    }
+}
+
+/// Ticks per second for `edges` edges over `span_us` µs, saturating at 32767.
+pub fn rate(edges: u32, span_us: u32) -> Fix {
+    if edges == 0 || span_us == 0 {
+        return Fix::ZERO;
+    }
+    // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check).
+    let scaled = (edges <= 4_294).then(|| edges * 1_000_000);
+    let (whole, rem, span) = match scaled {
+        Some(scaled) => (scaled / span_us, scaled % span_us, span_us),
+        // Only for more than 4294 edges in one update: 10^6 = 15625·64.
+        None => {
+            let span = (span_us / 64).max(1);
+            // 274877·15625 < 2^32; more edges than that in one update is past any speed.
+            let scaled = edges.min(274_877) * 15_625;
+            (scaled / span, scaled % span, span)
+        }
+    };
+    if whole > 32_767 {
+        return Fix::MAX;
+    }
+    // rem < span; 8 fraction bits are plenty and keep rem << 8 within u32.
+    let fraction = if span < 1 << 24 { (rem << 8) / span } else { 0 };
+    Fix::from_bits((whole << 16 | fraction << 8) as i32)
+}
+
+/// The drive's speed measurement between two control updates.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct SpeedMeter {
+    /// When the previous update ran (µs).
+    since_us: u32,
+    /// Edges counted since then.
+    rising: u16,
+    /// Of those, with B high.
+    b_high: u16,
+    /// The last edge seen by the previous update, for edge timing.
+    reference: Option<u32>,
+    /// The last edge seen at all.
+    last_edge: Option<u32>,
+    /// The last measured speed.
+    speed: Fix,
+}
+
+impl SpeedMeter {
+    /// A meter whose first window starts at `now_us`.
+    pub const fn new(now_us: u32) -> SpeedMeter {
+        SpeedMeter {
+            since_us: now_us,
+            rising: 0,
+            b_high: 0,
+            reference: None,
+            last_edge: None,
+            speed: Fix::ZERO,
+        }
+    }
+
+    /// Adds the edges one tick took from the [`EdgeCounter`].
+    pub fn accumulate(&mut self, sample: &EdgeSample) {
+        if sample.rising > 0 {
+            self.rising = self.rising.saturating_add(sample.rising);
+            self.b_high = self.b_high.saturating_add(sample.b_high);
+            self.last_edge = Some(sample.last_edge_us);
+        }
+    }
+
+    /// Whether the drive update is due at `now_us` in `mode`.
+    pub fn due(&self, now_us: u32, mode: DriveMode) -> bool {
+        let elapsed = now_us.wrapping_sub(self.since_us);
+        match mode {
+            DriveMode::Window => elapsed > WINDOW_US,
+            DriveMode::EdgeTiming => elapsed >= FAST_PERIOD_US,
+        }
+    }
+
+    /// Measures the speed (ticks/s) at an update and starts the next interval.
+    pub fn measure(&mut self, now_us: u32, mode: DriveMode) -> Fix {
+        let n = u32::from(self.rising);
+        let magnitude = match mode {
+            DriveMode::Window => rate(n, now_us.wrapping_sub(self.since_us)),
+            DriveMode::EdgeTiming => self.edge_timing(now_us),
+        };
+        let reverse = if n > 0 {
+            u32::from(self.b_high) > n / 3
+        } else {
+            self.speed < Fix::ZERO
+        };
+        self.speed = if reverse { -magnitude } else { magnitude };
+        self.reference = if n > 0 {
+            self.last_edge
+        } else {
+            self.reference
+        };
+        self.since_us = now_us;
+        self.rising = 0;
+        self.b_high = 0;
+        self.speed
+    }
+
+    /// The last measured speed.
+    pub fn speed(&self) -> Fix {
+        self.speed
+    }
+
+    fn edge_timing(&self, now_us: u32) -> Fix {
+        let n = u32::from(self.rising);
+        let fresh = |edge: u32| now_us.wrapping_sub(edge) < FAST_TIMEOUT_US;
+        match (n, self.last_edge, self.reference) {
+            (0, _, Some(reference)) if fresh(reference) => {
+                let bound = rate(1, now_us.wrapping_sub(reference));
+                self.speed.saturating_abs().min(bound)
+            }
+            (0, _, _) => Fix::ZERO,
+            // From the edge before these to the last of them: n whole periods. After a
+            // rest this underestimates for one update, which is the safe side.
+            (_, Some(last), Some(reference)) => rate(n, last.wrapping_sub(reference)),
+            // The first edges ever: the first came after the previous update.
+            (_, Some(last), None) => rate(n, last.wrapping_sub(self.since_us)),
+            (_, None, _) => Fix::ZERO,
+        }
+    }
+}
+
+/// The odometer: every rising edge of A, in either direction.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Odometer {
+    edges: u32,
+}
+
+impl Odometer {
+    /// Zero.
+    pub const fn new() -> Odometer {
+        Odometer { edges: 0 }
+    }
+
+    /// Counts edges.
+    pub fn add(&mut self, edges: u16) {
+        self.edges = self.edges.wrapping_add(u32::from(edges));
+    }
+
+    /// REGDS_DRIVE_ODO: ⌊edges/256⌋ mod 65536.
+    pub fn reading(&self) -> u16 {
+        (self.edges >> 8) as u16
+    }
+
+    /// REG_RESET bit 2.
+    pub fn clear(&mut self) {
+        self.edges = 0;
+    }
+}

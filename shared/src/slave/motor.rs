@@ -1,0 +1,332 @@
+//! One motor of a slave: its parameters, its controller and its monitoring values.
+
+use super::board::{Monitor, Param};
+use super::current::CurrentFilter;
+use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
+use super::pot::Calibration;
+use super::scale::Scale;
+use super::state::LocalFault;
+use crate::pid::{Duty, Fix, Gains, Pid};
+use crate::regs::{id, DS};
+
+/// The monitoring registers of a motor are refreshed at most this often, µs.
+pub const MONITOR_PERIOD_US: u32 = 10_000;
+
+/// The power-on overcurrent threshold of every motor, raw ADC counts.
+pub const THRESHOLD_POWER_ON: u16 = 300;
+
+/// How a motor is controlled.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Kind {
+    /// Speed from the encoder, incremental PID (DS M1).
+    Drive,
+    /// Angle from a pot, position PID (DS M2, LL M1 and M2).
+    Position,
+}
+
+// Scales of the drive's and of a position motor's registers, from the DS table (the LL
+// motor blocks have the same ranges; a test checks).
+const DRIVE_REQUIRED: Scale = Scale::of(&DS, id::REGDS_DRIVE_REQSPEED);
+const DRIVE_P: Scale = Scale::of(&DS, id::REGDS_DRIVE_PGAIN);
+const POSITION_REQUIRED: Scale = Scale::of(&DS, id::REGDS_STEER_REQPOS);
+const POSITION_P: Scale = Scale::of(&DS, id::REGDS_STEER_PGAIN);
+const I_GAIN: Scale = Scale::of(&DS, id::REGDS_DRIVE_IGAIN);
+const D_GAIN: Scale = Scale::of(&DS, id::REGDS_DRIVE_DGAIN);
+const CAP: Scale = Scale::of(&DS, id::REGDS_DRIVE_INTEGRALCAP);
+const DECAY: Scale = Scale::of(&DS, id::REGDS_DRIVE_INTEGRALDECAY);
+const THRESHOLD: Scale = Scale::of(&DS, id::REGDS_DRIVE_OVERCURRENTTHRESH);
+const STALL_CHECK: Scale = Scale::of(&DS, id::REGDS_DRIVE_STALLCHECK);
+const DEAD_ZONE: Scale = Scale::of(&DS, id::REGDS_DRIVE_DEADZONE);
+const CALIB: Scale = Scale::of(&DS, id::REGDS_STEER_CALIBMIN);
+
+const DRIVE_ACTUAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_ACTUALSPEED);
+const DRIVE_ERROR: Scale = Scale::of(&DS, id::REGDS_DRIVE_ERROR);
+const POSITION_ACTUAL: Scale = Scale::of(&DS, id::REGDS_STEER_ACTUALPOS);
+const POSITION_ERROR: Scale = Scale::of(&DS, id::REGDS_STEER_ERROR);
+const INTEGRAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_ERRORINTEGRAL);
+const DERIV: Scale = Scale::of(&DS, id::REGDS_DRIVE_ERRORDERIV);
+const CONTROL: Scale = Scale::of(&DS, id::REGDS_DRIVE_CONTROL);
+const INTERVAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_INTERVALCTRL);
+
+impl Kind {
+    /// The scale of a mapped parameter register of this kind of motor.
+    #[inline(always)]
+    pub fn param_scale(self, param: Param) -> Scale {
+        match (self, param) {
+            (Kind::Drive, Param::Required) => DRIVE_REQUIRED,
+            (Kind::Position, Param::Required) => POSITION_REQUIRED,
+            (Kind::Drive, Param::P) => DRIVE_P,
+            (Kind::Position, Param::P) => POSITION_P,
+            (_, Param::I) => I_GAIN,
+            (_, Param::D) => D_GAIN,
+            (_, Param::Cap) => CAP,
+            (_, Param::Decay) => DECAY,
+            (_, Param::Threshold) => THRESHOLD,
+            (_, Param::StallCheck) => STALL_CHECK,
+            (_, Param::DeadZone) => DEAD_ZONE,
+            (_, Param::CalibMin | Param::CalibMax) => CALIB,
+        }
+    }
+
+    /// The scale of a mapped monitoring register of this kind of motor (`None` for
+    /// CURRENT, which is unmapped).
+    #[inline(always)]
+    pub fn monitor_scale(self, monitor: Monitor) -> Option<Scale> {
+        Some(match (self, monitor) {
+            (Kind::Drive, Monitor::Actual) => DRIVE_ACTUAL,
+            (Kind::Position, Monitor::Actual) => POSITION_ACTUAL,
+            (Kind::Drive, Monitor::Error) => DRIVE_ERROR,
+            (Kind::Position, Monitor::Error) => POSITION_ERROR,
+            (_, Monitor::Integral) => INTEGRAL,
+            (_, Monitor::Deriv) => DERIV,
+            (_, Monitor::Control) => CONTROL,
+            (_, Monitor::Interval) => INTERVAL,
+            (_, Monitor::Current) => return None,
+        })
+    }
+}
+
+/// A motor's parameters as the slave acts on them.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Params {
+    /// Gains, integral cap and decay, dead zone.
+    pub gains: Gains,
+    /// The demand: ticks/s or degrees.
+    pub required: Fix,
+    /// OVERCURRENTTHRESH, raw ADC counts.
+    pub threshold: u16,
+    /// STALLCHECK, duty.
+    pub stall_check: u8,
+    /// CALIBMIN/CALIBMAX (position motors).
+    pub calibration: Calibration,
+}
+
+impl Params {
+    /// The power-on parameters (reference §8.1).
+    pub const POWER_ON: Params = Params {
+        gains: Gains::ZERO,
+        required: Fix::ZERO,
+        threshold: THRESHOLD_POWER_ON,
+        stall_check: STALL_CHECK_POWER_ON,
+        calibration: Calibration::POWER_ON,
+    };
+
+    /// Applies a written register.
+    pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
+        let scale = kind.param_scale(param);
+        let g = &mut self.gains;
+        match param {
+            Param::Required => self.required = scale.unmap(raw),
+            Param::P => g.p = scale.unmap(raw),
+            Param::I => g.i = scale.unmap(raw),
+            Param::D => g.d = scale.unmap(raw),
+            Param::Cap => g.cap = scale.unmap(raw),
+            Param::Decay => g.decay = scale.unmap(raw),
+            Param::DeadZone => g.dead_zone = scale.unmap(raw),
+            Param::Threshold => self.threshold = scale.unmap_int(raw),
+            Param::StallCheck => {
+                self.stall_check = u8::try_from(scale.unmap_int(raw)).unwrap_or(u8::MAX)
+            }
+            Param::CalibMin => self.calibration.set_min(scale.unmap(raw)),
+            Param::CalibMax => self.calibration.set_max(scale.unmap(raw)),
+        }
+    }
+}
+
+/// The raw monitoring values of a motor, refreshed from its updates.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Monitors {
+    /// ACTUAL…, ERROR, ERRORINTEGRAL, ERRORDERIV, CONTROL, INTERVALCTRL (raw), in table
+    /// order: the registers from the motor's [`Monitor::Actual`] on.
+    pub raw: [u16; 6],
+    /// INTERVALCTRL in ms, unmapped (LL's REG_DEBUG shows lift ONE's).
+    pub interval_ms: u16,
+}
+
+/// Raw 0 in a symmetric range.
+const MID: u16 = 0x7fff;
+
+impl Monitors {
+    /// Before the first update: every value 0.
+    pub const POWER_ON: Monitors = Monitors {
+        raw: [MID, MID, MID, MID, MID, 0],
+        interval_ms: 0,
+    };
+
+    /// The raw value of a monitoring register (`None` for CURRENT).
+    pub fn get(&self, monitor: Monitor) -> Option<u16> {
+        let index = match monitor {
+            Monitor::Actual => 0,
+            Monitor::Error => 1,
+            Monitor::Integral => 2,
+            Monitor::Deriv => 3,
+            Monitor::Control => 4,
+            Monitor::Interval => 5,
+            Monitor::Current => return None,
+        };
+        self.raw.get(index).copied()
+    }
+}
+
+/// What a motor's update needs besides its own state.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct UpdateContext {
+    /// Now, µs.
+    pub now_us: u32,
+    /// Now, ms since boot.
+    pub now_ms: u32,
+    /// The slave is in exception: demands are overwritten and the output not applied.
+    pub in_exception: bool,
+    /// FAULTTIME, ms.
+    pub fault_time_ms: u16,
+}
+
+/// One motor.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Motor {
+    /// How it is controlled.
+    pub kind: Kind,
+    /// Its parameters.
+    pub params: Params,
+    pid: Pid,
+    /// The CURRENT register's filter (with the original's wrap).
+    current: CurrentFilter,
+    /// The same filter without the wrap, for the fault detector.
+    level: CurrentFilter,
+    fault: FaultDetector,
+    /// When the previous update ran (or the board started), µs.
+    last_update_us: u32,
+    /// When the monitoring values were last mapped, µs.
+    mapped_us: u32,
+    monitors: Monitors,
+    /// The duty the controller last asked for.
+    demand: Duty,
+    /// The duty applied to the motor now (0 when stopped).
+    applied: u8,
+}
+
+impl Motor {
+    /// A motor at power-up.
+    pub const fn new(kind: Kind) -> Motor {
+        Motor {
+            kind,
+            params: Params::POWER_ON,
+            pid: Pid::new(),
+            current: CurrentFilter::new(),
+            level: CurrentFilter::new(),
+            fault: FaultDetector::new(),
+            last_update_us: 0,
+            mapped_us: 0,
+            monitors: Monitors::POWER_ON,
+            demand: Duty::IDLE,
+            applied: 0,
+        }
+    }
+
+    /// Starts the interval clock at the board's first tick.
+    pub fn start(&mut self, now_us: u32) {
+        self.last_update_us = now_us;
+        self.mapped_us = now_us.wrapping_sub(MONITOR_PERIOD_US);
+    }
+
+    /// Feeds a tick's current readings; returns an overcurrent fault if the peak is above
+    /// the threshold.
+    pub fn sense_current(&mut self, latest: u16, peak: u16) -> Option<LocalFault> {
+        self.current.push(latest);
+        self.level.push_saturating(latest);
+        super::current::overcurrent(peak, self.params.threshold, self.applied)
+    }
+
+    /// One control update with the measured value (ticks/s or degrees). In exception the
+    /// demand is overwritten first (position: required := actual; drive: required := 0)
+    /// and CONTROL keeps the last applied duty. Returns a stall or sensor fault.
+    pub fn update(&mut self, actual: Fix, cx: &UpdateContext) -> Option<LocalFault> {
+        if cx.in_exception {
+            self.params.required = match self.kind {
+                Kind::Drive => Fix::ZERO,
+                Kind::Position => actual,
+            };
+        }
+        let gains = &self.params.gains;
+        let step = match self.kind {
+            Kind::Drive => self.pid.speed(gains, self.params.required, actual),
+            Kind::Position => self.pid.position(gains, self.params.required, actual),
+        };
+        self.demand = step.duty;
+        let interval_ms = interval_ms(cx.now_us.wrapping_sub(self.last_update_us));
+        self.last_update_us = cx.now_us;
+        self.monitors.interval_ms = interval_ms;
+        let duty = if cx.in_exception {
+            0
+        } else {
+            step.duty.magnitude
+        };
+        // Mapping six values costs more than the update itself on the AVR, so the
+        // monitoring registers are refreshed from every update at most every 10 ms.
+        if cx.now_us.wrapping_sub(self.mapped_us) >= MONITOR_PERIOD_US {
+            self.mapped_us = cx.now_us;
+            let kind = self.kind;
+            let map = |monitor, value| match kind.monitor_scale(monitor) {
+                Some(scale) => scale.map(value),
+                None => 0,
+            };
+            let m = &mut self.monitors;
+            m.raw[0] = map(Monitor::Actual, actual);
+            m.raw[1] = map(Monitor::Error, step.error);
+            m.raw[2] = map(Monitor::Integral, step.integral);
+            m.raw[3] = map(Monitor::Deriv, step.deriv);
+            m.raw[5] = INTERVAL.map_int(interval_ms);
+            if !cx.in_exception {
+                m.raw[4] = CONTROL.map_int(u16::from(duty));
+            }
+        }
+        let motion = match self.kind {
+            Kind::Drive => Motion::Speed(actual),
+            Kind::Position => Motion::Angle(actual),
+        };
+        let limits = Limits {
+            stall_check: self.params.stall_check,
+            fault_time_ms: cx.fault_time_ms,
+        };
+        self.fault
+            .update(cx.now_ms, duty, motion, self.level.reading(), &limits)
+    }
+
+    /// The output for the motor while the slave runs normally.
+    pub fn demand(&self) -> Duty {
+        self.demand
+    }
+
+    /// Records the duty the firmware applies (0 when stopped).
+    pub fn set_applied(&mut self, duty: u8) {
+        self.applied = duty;
+    }
+
+    /// CURRENT: the filtered current, 0..255.
+    pub fn current(&self) -> u8 {
+        self.current.reading()
+    }
+
+    /// The wrap-free filtered current the fault detector uses.
+    pub fn current_level(&self) -> u8 {
+        self.level.reading()
+    }
+
+    /// The monitoring values.
+    pub fn monitors(&self) -> &Monitors {
+        &self.monitors
+    }
+
+    /// The controller's state.
+    pub fn pid(&self) -> &Pid {
+        &self.pid
+    }
+}
+
+/// ⌊µs/1000⌋, saturating at 65535; a 16-bit division for the usual short intervals.
+fn interval_ms(us: u32) -> u16 {
+    match u16::try_from(us) {
+        Ok(short) => short / 1000,
+        Err(_) => u16::try_from(us / 1000).unwrap_or(u16::MAX),
+    }
+}

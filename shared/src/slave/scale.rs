@@ -1,0 +1,125 @@
+//! Register values to fixed point and back, without floats or fixed-point division.
+//!
+//! A mapped register with range [a, b] and size n stands for raw·(b − a)/F + a, with
+//! F = 65534 (2 bytes) or 254 (1 byte) (reference §3). Every range in the tables has
+//! integer ends, so a [`Scale`] holds them as integers, taken from the generated table
+//! when the crate is compiled: no second copy, and no float at run time.
+//!
+//! - [`Scale::unmap`] is exact (the true value, truncated to 1/65536) using two `u32`
+//!   divisions; it runs only when a register is written.
+//! - [`Scale::unmap_int`] truncates to an integer, as the original does for thresholds;
+//!   it equals the original's float32 result for every raw value (tested exhaustively).
+//! - [`Scale::map`] (value → raw, clamped) runs for every monitoring value, so it uses a
+//!   reciprocal computed at compile time and three `u32` multiplications.
+//!
+//! Ranges with span 65535 would overflow `raw·span`; the tables have none (the widest
+//! is 8000).
+
+use crate::pid::Fix;
+use crate::regs::Register;
+
+/// An integer mapping range and register size. Small and `Copy`: its methods are
+/// inlined wrappers, so a constant scale reaches the arithmetic as immediate operands,
+/// not as a table in RAM.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Scale {
+    /// a, the value of raw 0.
+    min: i16,
+    /// b − a.
+    span: u16,
+    /// F: 65534 or 254.
+    full: u16,
+    /// ⌈F·65536 / (b − a)⌉, for [`Scale::map`].
+    reciprocal: u32,
+}
+
+impl Scale {
+    /// The scale of register `id` of `table`, evaluated at compile time. Fails to compile
+    /// (a const panic) if the register is unmapped or its range has ends that are not
+    /// integers within ±32767.
+    pub const fn of(table: &[Register], id: u8) -> Scale {
+        let reg = &table[id as usize];
+        let Some(range) = reg.range else {
+            panic!("register is unmapped");
+        };
+        let min = range.min as i32;
+        let max = range.max as i32;
+        assert!(min as f32 == range.min && max as f32 == range.max && min < max);
+        assert!(min >= -32767 && max <= 32767);
+        let full: u32 = if reg.size == 1 { 254 } else { 65534 };
+        let span = (max - min) as u32;
+        let reciprocal = ((full as u64) << 16).div_ceil(span as u64);
+        Scale {
+            min: min as i16,
+            span: span as u16,
+            full: full as u16,
+            reciprocal: reciprocal as u32,
+        }
+    }
+
+    /// The value a raw register holds: raw·(b − a)/F + a, truncated toward −∞ to 1/65536.
+    #[inline(always)]
+    pub fn unmap(self, raw: u16) -> Fix {
+        unmap(raw, self.min, self.span, self.full)
+    }
+
+    /// The value a raw register holds, truncated toward zero to an integer (as the
+    /// original does for OVERCURRENTTHRESH and STALLCHECK). Only for ranges starting at
+    /// 0, which all integer parameters have.
+    #[inline(always)]
+    pub fn unmap_int(self, raw: u16) -> u16 {
+        unmap_int(raw, self.span, self.full)
+    }
+
+    /// The raw value for `value`: trunc((clamp(v, a, b) − a)·F/(b − a)). Within one count
+    /// of the exact result, and exact at the ends and wherever the exact result is a whole
+    /// number (0 ↔ 0x7fff in symmetric ranges).
+    #[inline(always)]
+    pub fn map(self, value: Fix) -> u16 {
+        map(value, self.min, self.span, self.reciprocal)
+    }
+
+    /// The raw value for an integer (e.g. an ADC reading), as [`Scale::map`].
+    #[inline(always)]
+    pub fn map_int(self, value: u16) -> u16 {
+        self.map(Fix::from_bits(i32::from(value) << 16))
+    }
+}
+
+#[inline(never)]
+fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
+    // `max(1)` proves the divisor is not zero (F is 254 or 65534).
+    let (span, full) = (u32::from(span), u32::from(full.max(1)));
+    // raw·span ≤ 65535·65535 < 2^32; the result is at most 65535·span/full ≤ span + 1.
+    let product = u32::from(raw) * span;
+    let whole = product / full;
+    let fraction = ((product % full) << 16) / full;
+    let bits = (whole << 16 | fraction) as i32;
+    Fix::from_bits(bits.wrapping_add(i32::from(min) << 16))
+}
+
+#[inline(never)]
+fn unmap_int(raw: u16, span: u16, full: u16) -> u16 {
+    let value = u32::from(raw) * u32::from(span) / u32::from(full.max(1));
+    u16::try_from(value).unwrap_or(u16::MAX)
+}
+
+#[inline(never)]
+fn map(value: Fix, min: i16, span: u16, reciprocal: u32) -> u16 {
+    // |a|, |b| ≤ 32767, so a and b fit an I16F16's bits.
+    let min = i32::from(min) << 16;
+    let max = min.wrapping_add(i32::from(span) << 16);
+    let clamped = value.to_bits().max(min).min(max);
+    // 0 ≤ offset ≤ span·65536 < 2^32.
+    let offset = clamped.wrapping_sub(min) as u32;
+    let whole = (offset >> 16) as u16;
+    let fraction = offset as u16;
+    let (r, r_high, r_low) = (reciprocal, (reciprocal >> 16) as u16, reciprocal as u16);
+    let wide = |x: u16, y: u16| u32::from(x) * u32::from(y);
+    // whole·r ≤ F·65536 + span < 2^32, and the fraction terms add less than r.
+    let scaled = u32::from(whole)
+        .wrapping_mul(r)
+        .wrapping_add(wide(fraction, r_high))
+        .wrapping_add(wide(fraction, r_low) >> 16);
+    u16::try_from(scaled >> 16).unwrap_or(u16::MAX)
+}

@@ -1,0 +1,233 @@
+//! The slave's exception state machine (reference §6, the manual's figure 12).
+//!
+//! ```text
+//!            power-up / watchdog reset
+//!                      │
+//!                      ▼
+//!        ┌──── Exception(Boot) ◄──────────────────────────┐
+//!        │             │ Leave (RESET bit 0)              │
+//!        │             ▼                                  │
+//!        │   Running { last } ──Fault (unmasked)──► Exception(Local)
+//!        │             │  ▲    ──RemoteWrite (unmasked)──► Exception(Remote)
+//!        │             │  └──────── Leave ────────────────┘
+//!        │             │
+//!        └─ HardReset (RESET bit 1), from any state ──► Restarting ──► (watchdog) power-up
+//! ```
+//!
+//! In an exception, further faults and remote writes change nothing: only the first is
+//! latched. A type whose bit is set in DISABLEDEXCEPTIONS is never raised. BOOT is never
+//! raised; it is where every power-up starts.
+
+use super::board::MotorId;
+use crate::exception::ExceptionType;
+
+/// A fault a slave detects on one of its own motors.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum LocalFault {
+    /// Current above the threshold at duty > 250.
+    Overcurrent,
+    /// Current above the threshold at duty ≤ 250: a short.
+    ShortOc,
+    /// Duty above STALLCHECK, no motion, nominal current: the motor is blocked.
+    Stall,
+    /// Duty above STALLCHECK, no motion, low current: the sensor misses the motion.
+    EncoderFault,
+    /// Duty above STALLCHECK, no motion, no current: the motor or its wiring is open.
+    DriveFault,
+}
+
+impl LocalFault {
+    /// The exception type that travels in EXCEPTIONDATA.
+    pub const fn kind(self) -> ExceptionType {
+        match self {
+            LocalFault::Overcurrent => ExceptionType::Overcurrent,
+            LocalFault::ShortOc => ExceptionType::ShortOc,
+            LocalFault::Stall => ExceptionType::Stall,
+            LocalFault::EncoderFault => ExceptionType::EncoderFault,
+            LocalFault::DriveFault => ExceptionType::DriveFault,
+        }
+    }
+}
+
+/// Why a slave is (or last was) in exception.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Cause {
+    /// Power-up or a watchdog reset.
+    Boot,
+    /// A write to REG_EXCEPTIONDATA: another board's fault, spread by the master.
+    Remote,
+    /// A fault on one of this board's motors.
+    Local {
+        /// What went wrong.
+        fault: LocalFault,
+        /// On which motor.
+        motor: MotorId,
+    },
+}
+
+/// EXCEPTIONDATA's motor byte when the exception concerns no motor.
+pub const NO_MOTOR: u8 = 5;
+
+impl Cause {
+    /// The exception type.
+    pub const fn kind(self) -> ExceptionType {
+        match self {
+            Cause::Boot => ExceptionType::Boot,
+            Cause::Remote => ExceptionType::RemoteSlave,
+            Cause::Local { fault, .. } => fault.kind(),
+        }
+    }
+
+    /// The motor concerned, if any.
+    pub const fn motor(self) -> Option<MotorId> {
+        match self {
+            Cause::Local { motor, .. } => Some(motor),
+            Cause::Boot | Cause::Remote => None,
+        }
+    }
+
+    /// REG_EXCEPTIONDATA: type in the low byte, motor (0, 1, or 5 for none) in the high.
+    pub const fn data(self) -> u16 {
+        let motor = match self.motor() {
+            Some(m) => m as u8,
+            None => NO_MOTOR,
+        };
+        (motor as u16) << 8 | self.kind().code() as u16
+    }
+}
+
+/// The slave's exception state.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum State {
+    /// In exception. Motors are stopped (at boot: forward, duty 0).
+    Exception(Cause),
+    /// Running normally; EXCEPTIONDATA still shows the last exception.
+    Running {
+        /// The exception last left.
+        last: Cause,
+    },
+    /// A hard reset was asked for: the watchdog is left to fire, motors are stopped.
+    Restarting {
+        /// What EXCEPTIONDATA showed when the reset was asked for.
+        last: Cause,
+    },
+}
+
+/// Something that may change the exception state.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Event {
+    /// A local fault was detected.
+    Fault {
+        /// What went wrong.
+        fault: LocalFault,
+        /// On which motor.
+        motor: MotorId,
+    },
+    /// REG_EXCEPTIONDATA was written.
+    RemoteWrite,
+    /// REG_RESET bit 0: leave the exception.
+    Leave,
+    /// REG_RESET bit 1: reset the board through the watchdog.
+    HardReset,
+}
+
+/// What an event did.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Transition {
+    /// Nothing changed (already in exception, or nothing to leave, or restarting).
+    Unchanged,
+    /// The exception's type is disabled in DISABLEDEXCEPTIONS: nothing changed.
+    Masked,
+    /// The slave entered an exception.
+    Entered(Cause),
+    /// The slave left its exception and runs.
+    Left,
+    /// The slave is restarting through the watchdog.
+    Restart,
+}
+
+/// REG_RESET's bits.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct ResetBits(pub u8);
+
+impl ResetBits {
+    /// Bit 0: leave the exception.
+    pub const LEAVE: u8 = 1;
+    /// Bit 1: hard reset.
+    pub const HARD: u8 = 2;
+    /// Bit 2: zero the odometer (DS).
+    pub const ODOMETER: u8 = 4;
+
+    /// The state-machine events these bits stand for, in the original's order: a hard
+    /// reset alone (the original spins until the watchdog fires, so nothing after it
+    /// runs), otherwise leaving the exception.
+    pub const fn event(self) -> Option<Event> {
+        if self.0 & Self::HARD != 0 {
+            Some(Event::HardReset)
+        } else if self.0 & Self::LEAVE != 0 {
+            Some(Event::Leave)
+        } else {
+            None
+        }
+    }
+
+    /// Whether the odometer is to be zeroed (never with a hard reset, which comes first).
+    pub const fn zero_odometer(self) -> bool {
+        self.0 & Self::HARD == 0 && self.0 & Self::ODOMETER != 0
+    }
+}
+
+impl State {
+    /// The state at power-up: the boot exception.
+    pub const POWER_UP: State = State::Exception(Cause::Boot);
+
+    /// Applies an event. `disabled` is REG_DISABLEDEXCEPTIONS: type t is never raised
+    /// while bit (1 << t) is set.
+    pub fn handle(&mut self, event: Event, disabled: u16) -> Transition {
+        let current = *self;
+        let (next, transition) = match (current, event) {
+            (State::Restarting { .. }, _) => (current, Transition::Unchanged),
+            (State::Exception(last) | State::Running { last }, Event::HardReset) => {
+                (State::Restarting { last }, Transition::Restart)
+            }
+            (State::Exception(cause), Event::Leave) => {
+                (State::Running { last: cause }, Transition::Left)
+            }
+            (State::Running { .. }, Event::Leave) => (current, Transition::Unchanged),
+            (State::Exception(_), Event::Fault { .. } | Event::RemoteWrite) => {
+                (current, Transition::Unchanged)
+            }
+            (State::Running { .. }, Event::Fault { fault, motor }) => {
+                raise(current, Cause::Local { fault, motor }, disabled)
+            }
+            (State::Running { .. }, Event::RemoteWrite) => raise(current, Cause::Remote, disabled),
+        };
+        *self = next;
+        transition
+    }
+
+    /// Whether REG_STATUS bit 0 is set: in exception, or restarting.
+    pub const fn in_exception(&self) -> bool {
+        !matches!(self, State::Running { .. })
+    }
+
+    /// REG_EXCEPTIONDATA: the current exception, or the last one while running.
+    pub const fn data(&self) -> u16 {
+        match self {
+            State::Exception(cause)
+            | State::Running { last: cause }
+            | State::Restarting { last: cause } => cause.data(),
+        }
+    }
+}
+
+fn raise(current: State, cause: Cause, disabled: u16) -> (State, Transition) {
+    let bit = 1u16
+        .checked_shl(u32::from(cause.kind().code()))
+        .unwrap_or(0);
+    if disabled & bit != 0 {
+        (current, Transition::Masked)
+    } else {
+        (State::Exception(cause), Transition::Entered(cause))
+    }
+}

@@ -1,0 +1,323 @@
+//! Sensors: the current filter and overcurrent rule (§7.4), pot angles (§7.3), the
+//! encoder's speed and odometer (§7.3), and the ADC collector.
+
+mod slave_support;
+
+use shared::pid::Fix;
+use shared::regs::id::*;
+use shared::slave::current::{overcurrent, CurrentFilter};
+use shared::slave::encoder::{rate, DriveMode, Odometer, SpeedMeter};
+use shared::slave::pot::Calibration;
+use shared::slave::scale::Scale;
+use shared::slave::{
+    AdcChannel, AdcCollector, AdcSample, EdgeCounter, EdgeSample, Inputs, LocalFault, Variant,
+};
+use slave_support::Bench;
+
+fn steady(filter: fn(&mut CurrentFilter, u16), sample: u16) -> u8 {
+    let mut f = CurrentFilter::new();
+    for _ in 0..2000 {
+        filter(&mut f, sample);
+    }
+    f.reading()
+}
+
+#[test]
+fn current_filter_is_bit_exact_wrap_included() {
+    let cases = [
+        (0, 0),
+        (1, 0),
+        (2, 1),
+        (10, 9),
+        (100, 99),
+        (200, 199),
+        (255, 254),
+        (256, 0),
+        (300, 43),
+        (1023, 254),
+    ];
+    for (sample, reading) in cases {
+        assert_eq!(steady(CurrentFilter::push, sample), reading, "c = {sample}");
+    }
+}
+
+#[test]
+fn current_filter_rises_fast_and_falls_slowly() {
+    let mut f = CurrentFilter::new();
+    let mut rise = Vec::new();
+    for _ in 0..5 {
+        f.push(100);
+        rise.push(f.reading());
+    }
+    // f := ⌊231·f/256⌋ + 2500: 2500, 4755, 6790, 8626, 10283; ⌊f/256⌋ as below.
+    assert_eq!(rise, [9, 18, 26, 33, 40]);
+    let mut f = CurrentFilter::new();
+    for _ in 0..200 {
+        f.push(100);
+    }
+    // Settled at f = 25590; on the way down f := ⌊254·f/256⌋ per sample: 25390 (99)
+    // after one, 11648 (45) after a hundred.
+    f.push(0);
+    assert_eq!(f.reading(), 99);
+    for _ in 0..99 {
+        f.push(0);
+    }
+    assert_eq!(f.reading(), 45);
+}
+
+#[test]
+fn saturating_filter_has_no_wrap() {
+    assert_eq!(steady(CurrentFilter::push_saturating, 300), 254);
+    assert_eq!(steady(CurrentFilter::push_saturating, 256), 254);
+    assert_eq!(steady(CurrentFilter::push_saturating, 100), 99);
+}
+
+#[test]
+fn overcurrent_rule() {
+    assert_eq!(overcurrent(300, 300, 255), None, "equal is not above");
+    assert_eq!(overcurrent(301, 300, 251), Some(LocalFault::Overcurrent));
+    assert_eq!(overcurrent(301, 300, 250), Some(LocalFault::ShortOc));
+    assert_eq!(overcurrent(301, 300, 0), Some(LocalFault::ShortOc));
+    assert_eq!(overcurrent(1023, 1000, 255), Some(LocalFault::Overcurrent));
+    assert_eq!(overcurrent(0, 0, 255), None);
+}
+
+#[test]
+fn pot_angles_with_the_calibration() {
+    let calib = Scale::of(&shared::regs::DS, REGDS_STEER_CALIBMIN);
+    let c = Calibration::new(calib.unmap(0x43), calib.unmap(0xc4));
+    assert!((c.min().to_num::<f64>() + 56.6929).abs() < 1e-3);
+    assert!((c.max().to_num::<f64>() - 65.1969).abs() < 1e-3);
+    let cases = [
+        (0u16, -56.6929),
+        (512, 4.2520),
+        (1023, 65.0778),
+        (1024, 65.0778),
+    ];
+    for (p, angle) in cases {
+        let got = c.angle(p).to_num::<f64>();
+        let float = f64::from(p.min(1023) as f32 * (65.19685f32 + 56.692913) / 1024.0 - 56.692913);
+        assert!((got - angle).abs() < 1e-3, "p {p}: {got}");
+        assert!((got - float).abs() < 1e-3, "p {p}: {got} vs {float}");
+    }
+    // Power-on −512..512: angle = p − 512.
+    assert_eq!(Calibration::POWER_ON.angle(0), Fix::from_num(-512));
+    assert_eq!(Calibration::POWER_ON.angle(700), Fix::from_num(188));
+    let mut c = Calibration::POWER_ON;
+    c.set_min(Fix::from_num(-100));
+    assert_eq!(c.max(), Fix::from_num(512));
+    c.set_max(Fix::from_num(100));
+    assert_eq!(c.angle(512), Fix::ZERO);
+}
+
+#[test]
+fn rate_is_edges_per_second() {
+    assert_eq!(rate(0, 150_000), Fix::ZERO);
+    assert_eq!(rate(150, 150_000), Fix::from_num(1000));
+    assert_eq!(rate(1, 150_001).to_num::<f64>().floor(), 6.0);
+    let r = rate(3, 7_000).to_num::<f64>();
+    assert!((r - 428.571).abs() < 0.01, "{r}");
+    // Beyond 4294 edges the product overflows u32: another route, same answer.
+    let r = rate(5000, 1_000_000).to_num::<f64>();
+    assert!((r - 5000.0).abs() < 0.01, "{r}");
+    assert_eq!(rate(40_000, 1_000), Fix::MAX);
+}
+
+#[test]
+fn edge_counter_counts_and_restarts_on_take() {
+    let mut c = EdgeCounter::new();
+    c.rising_edge(100, false);
+    c.rising_edge(200, true);
+    c.rising_edge(300, false);
+    assert_eq!(
+        c.take(),
+        EdgeSample {
+            rising: 3,
+            b_high: 1,
+            last_edge_us: 300
+        }
+    );
+    assert_eq!(
+        c.take(),
+        EdgeSample {
+            rising: 0,
+            b_high: 0,
+            last_edge_us: 300
+        }
+    );
+}
+
+fn edges(rising: u16, b_high: u16, last_edge_us: u32) -> EdgeSample {
+    EdgeSample {
+        rising,
+        b_high,
+        last_edge_us,
+    }
+}
+
+#[test]
+fn window_speed_and_its_sign_rule() {
+    let mut m = SpeedMeter::new(0);
+    m.accumulate(&edges(100, 0, 90_000));
+    m.accumulate(&edges(50, 0, 149_000));
+    assert!(
+        !m.due(150_000, DriveMode::Window),
+        "more than 150 ms, not equal"
+    );
+    assert!(m.due(150_001, DriveMode::Window));
+    let s = m.measure(151_000, DriveMode::Window).to_num::<f64>();
+    assert!((s - 150.0 * 1e6 / 151_000.0).abs() < 0.01, "{s}");
+    // Negative when more than ⌊N/3⌋ edges saw B high: N = 30 → 11 of them.
+    m.accumulate(&edges(30, 10, 200_000));
+    assert!(m.measure(302_000, DriveMode::Window) > Fix::ZERO);
+    m.accumulate(&edges(30, 11, 400_000));
+    assert!(m.measure(453_000, DriveMode::Window) < Fix::ZERO);
+    // No edges: 0.
+    assert_eq!(m.measure(604_000, DriveMode::Window), Fix::ZERO);
+}
+
+#[test]
+fn edge_timing_speed() {
+    let mut m = SpeedMeter::new(0);
+    // 1000 ticks/s: an edge every 1000 µs from t = 500.
+    let mut t = 500;
+    let mut now = 0;
+    let mut speeds = Vec::new();
+    for _ in 0..5 {
+        now += 10_000;
+        let mut n = 0;
+        while t <= now {
+            n += 1;
+            t += 1000;
+        }
+        m.accumulate(&edges(n, 0, t - 1000));
+        assert!(m.due(now, DriveMode::EdgeTiming));
+        speeds.push(m.measure(now, DriveMode::EdgeTiming).to_num::<f64>());
+    }
+    // The first interval has no earlier edge, so it spans from the previous update.
+    assert!((speeds[0] - 10.0 / 9_500.0 * 1e6).abs() < 0.5, "{speeds:?}");
+    for s in &speeds[1..] {
+        assert!((s - 1000.0).abs() < 0.01, "{speeds:?}");
+    }
+    // The edges stop: the speed falls to the bound 10^6/elapsed, then to 0 after 100 ms.
+    let last_edge = t - 1000;
+    now += 10_000;
+    let s = m.measure(now, DriveMode::EdgeTiming).to_num::<f64>();
+    let bound = 1e6 / f64::from(now - last_edge);
+    assert!((s - bound).abs() < 0.5, "{s} vs {bound}");
+    now += 10_000;
+    let s2 = m.measure(now, DriveMode::EdgeTiming).to_num::<f64>();
+    assert!(s2 < s && s2 > 0.0, "{s2}");
+    now = last_edge + 100_000;
+    assert_eq!(m.measure(now, DriveMode::EdgeTiming), Fix::ZERO);
+    // Reverse: B high at every edge.
+    m.accumulate(&edges(5, 5, now + 9_000));
+    let s = m.measure(now + 10_000, DriveMode::EdgeTiming);
+    assert!(s < Fix::ZERO, "{s}");
+}
+
+#[test]
+fn drive_mode_register_values() {
+    assert_eq!(DriveMode::from_register(0), DriveMode::Window);
+    assert_eq!(DriveMode::from_register(1), DriveMode::EdgeTiming);
+    assert_eq!(DriveMode::from_register(2), DriveMode::Window);
+}
+
+#[test]
+fn odometer_counts_every_edge_over_256() {
+    let mut o = Odometer::new();
+    o.add(255);
+    assert_eq!(o.reading(), 0);
+    o.add(1);
+    assert_eq!(o.reading(), 1);
+    for _ in 0..1000 {
+        o.add(65535);
+    }
+    assert_eq!(o.reading(), ((256 + 1000 * 65535u32) >> 8) as u16);
+    o.clear();
+    assert_eq!(o.reading(), 0);
+}
+
+#[test]
+fn odometer_register_and_reset_bit_2() {
+    let mut bench = Bench::running(Variant::DriveSteer);
+    let inputs = Inputs {
+        edges: edges(200, 200, 0),
+        ..Default::default()
+    };
+    bench.ticks(3, &inputs);
+    assert_eq!(
+        bench.read(REGDS_DRIVE_ODO),
+        2,
+        "600 edges in reverse still count"
+    );
+    bench.write(REG_RESET, 4);
+    bench.tick(&Inputs::default());
+    assert_eq!(bench.read(REGDS_DRIVE_ODO), 0);
+    assert_eq!(bench.read(REG_RESET), 0, "written back to 0");
+}
+
+#[test]
+fn adc_collector_keeps_latest_values_and_current_peaks() {
+    let mut adc = AdcCollector::new();
+    let mut ch = AdcChannel::ORDER[0];
+    for value in [100u16, 50, 600, 700, 300, 40, 610, 710] {
+        adc.record(ch, value);
+        ch = ch.next();
+    }
+    assert_eq!(ch, AdcChannel::Current1);
+    assert_eq!(
+        adc.take(),
+        AdcSample {
+            current: [300, 40],
+            current_peak: [300, 50],
+            ch6: 610,
+            ch7: 710
+        }
+    );
+    // The peaks restart at the latest values.
+    adc.record(AdcChannel::Current1, 20);
+    let s = adc.take();
+    assert_eq!((s.current, s.current_peak), ([20, 40], [300, 40]));
+    assert_eq!(
+        [
+            AdcChannel::Current1,
+            AdcChannel::Current2,
+            AdcChannel::Pot6,
+            AdcChannel::Pot7
+        ]
+        .map(AdcChannel::mux),
+        [0, 1, 6, 7]
+    );
+}
+
+#[test]
+fn chassis_register_is_the_mapped_adc7_reading() {
+    let mut bench = Bench::new(Variant::DriveSteer);
+    let inputs = Inputs {
+        adc: AdcSample {
+            ch7: 256,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    bench.tick(&inputs);
+    assert_eq!(bench.read(REGDS_CHASSIS), 16383);
+    assert!((bench.read_value(REGDS_CHASSIS) - 256.0).abs() < 0.02);
+}
+
+#[test]
+fn current_registers_show_the_filtered_current() {
+    let mut bench = Bench::new(Variant::LiftLift);
+    let inputs = Inputs {
+        adc: AdcSample {
+            current: [100, 300],
+            current_peak: [100, 300],
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    bench.ticks(2000, &inputs);
+    assert_eq!(bench.read(REGLL_ONE_CURRENT), 99);
+    assert_eq!(bench.read(REGLL_TWO_CURRENT), 43);
+}
