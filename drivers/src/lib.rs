@@ -8,12 +8,21 @@
 #![no_std]
 #![feature(asm_experimental_arch)]
 
+pub mod adc;
 pub mod cpu;
 pub mod eeprom;
+pub mod onewire;
+pub mod pcint;
 pub mod pin;
+pub mod pwm;
+pub mod rc_pins;
 pub mod sleep;
+pub mod stack;
 pub mod tick;
+pub mod timebase;
+pub mod timer1;
 pub mod twi;
+pub mod twi_slave;
 pub mod usart;
 pub mod watchdog;
 

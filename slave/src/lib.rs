@@ -1,1 +1,156 @@
+//! Blodwen slave board firmware (ATmega328P): two motor controllers on the rover's I2C
+//! bus, at the address in EEPROM byte 0. One crate builds both images: `slave-drive`
+//! (drive + steer, controllers 1, 2, 4, 5, 7, 8) and `slave-lift` (lift ONE + TWO,
+//! controllers 3, 6, 9); each bin is one line, [`firmware!`] with its variant.
+//!
+//! Every decision is in `shared::slave` and tested on the host. This crate collects raw
+//! facts in short interrupt tasks and applies the outputs of the control tick:
+//!
+//! | Task | Vector | Priority | Touches |
+//! |---|---|---|---|
+//! | `millis` | TIMER0_COMPA, 1 kHz | 3 | `clock` |
+//! | `edge` | PCINT2 (PD0, encoder A; DS only) | 3 | `clock`, `edges`; encoder pins |
+//! | `twi` | TWI | 2 | `regs`; the TWI |
+//! | `sample` | ADC | 2 | `adc`; the ADC |
+//! | `control` | TIMER0_COMPB, 1 kHz | 1 | all four; the logic, pins, PWM, watchdog |
+//! | idle | — | 0 | sleeps |
+//!
+//! The encoder and the clock are at the top priority, so no edge waits for anything but
+//! another top task, and a timestamp never sees a millisecond counted twice.
 #![no_std]
+
+pub mod boot;
+pub mod bus;
+pub mod clock;
+pub mod encoder;
+mod panic;
+pub mod registers;
+pub mod sampler;
+pub mod stage;
+
+pub use shared::slave::Variant;
+
+/// The whole firmware of a slave built as `variant`: the executor's application and its
+/// task bodies. Used once, by each bin.
+#[macro_export]
+macro_rules! firmware {
+    ($variant:expr) => {
+        use $crate::shared_types::*;
+
+        executor::app! {
+            #[shared]
+            struct Shared {
+                regs: Registers,
+                adc: AdcCollector,
+                edges: EdgeCounter,
+                clock: Clock,
+            }
+
+            #[local]
+            struct Local {
+                twi_port: Option<TwiSlave>,
+                sampler: Sampler,
+                encoder: Encoder,
+                core: Core,
+                staging: Staging,
+                stage: Stage,
+                _timebase: Timebase,
+                _changes: PortDChanges,
+            }
+
+            #[init]
+            fn init;
+
+            #[task(binds = TIMER0_COMPA, priority = 3, shared = [clock])]
+            fn millis;
+
+            #[task(binds = PCINT2, priority = 3, shared = [clock, edges], local = [encoder])]
+            fn edge;
+
+            #[task(binds = TWI, priority = 2, shared = [regs], local = [twi_port])]
+            fn twi;
+
+            #[task(binds = ADC, priority = 2, shared = [adc], local = [sampler])]
+            fn sample;
+
+            #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, adc, edges, clock], local = [core, staging, stage])]
+            fn control;
+        }
+
+        fn init(cx: init::Context) -> (Shared, Local) {
+            let p = $crate::boot::init(cx.device, $variant);
+            (
+                Shared {
+                    regs: p.regs,
+                    adc: p.adc,
+                    edges: p.edges,
+                    clock: p.clock,
+                },
+                Local {
+                    twi_port: p.twi,
+                    sampler: p.sampler,
+                    encoder: p.encoder,
+                    core: p.core,
+                    staging: p.staging,
+                    stage: p.stage,
+                    _timebase: p.timebase,
+                    _changes: p.changes,
+                },
+            )
+        }
+
+        fn millis(mut cx: millis::Context) {
+            cx.shared.clock.advance();
+        }
+
+        fn edge(mut cx: edge::Context) {
+            let clock = &*cx.shared.clock;
+            cx.local
+                .encoder
+                .on_change(&mut cx.shared.edges, || clock.now_us());
+        }
+
+        fn twi(mut cx: twi::Context) {
+            if let Some(port) = cx.local.twi_port {
+                $crate::bus::on_event(port, &mut cx.shared.regs);
+            }
+        }
+
+        fn sample(mut cx: sample::Context) {
+            cx.local.sampler.on_complete(&mut cx.shared.adc);
+        }
+
+        fn control(mut cx: control::Context) {
+            let now_us = cx.shared.clock.lock(|c| c.now_us());
+            let inputs = Inputs {
+                edges: cx.shared.edges.lock(|e| e.take()),
+                adc: cx.shared.adc.lock(|a| a.take()),
+            };
+            let core = &mut *cx.local.core;
+            let staging = &mut *cx.local.staging;
+            if cx.shared.regs.lock(|r| staging.take(r)) {
+                staging.apply(core);
+            }
+            let outputs = core.step(now_us, &inputs);
+            cx.shared.regs.lock(|r| {
+                staging.settle(r);
+                core.publish(r.file());
+            });
+            cx.local.stage.apply(&outputs);
+        }
+    };
+}
+
+/// The types [`firmware!`] names, in one place.
+#[doc(hidden)]
+pub mod shared_types {
+    pub use crate::clock::Clock;
+    pub use crate::encoder::Encoder;
+    pub use crate::registers::{Registers, Staging};
+    pub use crate::sampler::Sampler;
+    pub use crate::stage::Stage;
+    pub use drivers::pcint::PortDChanges;
+    pub use drivers::timebase::Timebase;
+    pub use drivers::twi_slave::TwiSlave;
+    pub use shared::slave::{AdcCollector, Core, EdgeCounter, Inputs, Variant};
+}

@@ -1,6 +1,7 @@
+//! The drive/steer slave image (controllers 1, 2, 4, 5, 7, 8): drive motor with encoder
+//! on M1, steer motor with pot on M2.
 #![no_std]
 #![no_main]
-#[avr_device::entry]
-fn main() -> ! { loop {} }
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! { loop {} }
+#![feature(abi_avr_interrupt)]
+
+slave::firmware!(Variant::DriveSteer);

@@ -1,6 +1,7 @@
+//! The lift/lift slave image (controllers 3, 6, 9): lift motors ONE (M1) and TWO (M2),
+//! each with a pot.
 #![no_std]
 #![no_main]
-#[avr_device::entry]
-fn main() -> ! { loop {} }
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! { loop {} }
+#![feature(abi_avr_interrupt)]
+
+slave::firmware!(Variant::LiftLift);

@@ -1,0 +1,176 @@
+//! A OneWire bus master on D6 (PD6), bit-banged as an open drain: the pin's PORT bit is
+//! 0, so setting its DDR bit pulls the line low and clearing it lets the external pull-up
+//! (or a sensor) decide the level. The one exception is [`OneWire::power`], which drives
+//! the line high to feed a parasite-powered conversion until the next reset. This is all the master's temperature sensors need:
+//! reset/presence, and read and write time slots, one bit or one byte at a time. What to
+//! send, and what the bits mean, is decided in `shared::master::temperature`.
+//!
+//! # Timing
+//! Every delay is a cycle-counted busy loop at 16 MHz. Interrupts are off only for the
+//! part of each slot whose length matters (at most ~70 µs), never across a whole byte,
+//! and are left as they were afterwards; the rest of a slot (the recovery time) may be
+//! stretched by interrupts, which OneWire allows.
+//!
+//! | Step | Line low | Then | Interrupts off |
+//! |---|---|---|---|
+//! | reset | 500 µs | release, sample presence at 70 µs, wait 430 µs | release to sample (70 µs) |
+//! | power | – | line driven high until the next reset | – |
+//! | write 1 | 6 µs | release, 64 µs recovery | the 6 µs low |
+//! | write 0 | 62 µs | release, 8 µs recovery | the 62 µs low |
+//! | read | 2 µs | release, sample at ~12 µs, 55 µs recovery | low to sample (~13 µs) |
+//!
+//! The datasheet windows: reset ≥ 480 µs, presence 15-60 µs after the release lasting
+//! 60-240 µs, write-1 low 1-15 µs, write-0 low 60-120 µs, read sample within 15 µs of
+//! the falling edge, slots ≥ 60 µs apart.
+
+use core::arch::asm;
+
+/// I/O-space address of PIND.
+const PIND: u8 = 0x09;
+/// I/O-space address of DDRD.
+const DDRD: u8 = 0x0a;
+/// I/O-space address of PORTD.
+const PORTD: u8 = 0x0b;
+/// The line's bit in port D.
+const BIT: u8 = 6;
+
+/// The OneWire line on D6.
+pub struct OneWire(());
+
+impl OneWire {
+    /// Releases the line (input, no pull-up, PORT bit 0) and returns the bus master.
+    ///
+    /// # Safety
+    /// The caller must own PD6: nothing else may drive or configure that pin.
+    pub unsafe fn take() -> Self {
+        // SAFETY: cbi on PD6's own DDR and PORT bits; atomic, and no other bit changes.
+        unsafe {
+            asm!("cbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack));
+            asm!("cbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack));
+        }
+        OneWire(())
+    }
+
+    /// Sends a reset pulse; returns whether any device answered with a presence pulse.
+    /// Ends [`OneWire::power`].
+    #[inline(never)]
+    pub fn reset(&mut self) -> bool {
+        // SAFETY: cbi on PD6's own PORT bit: back to open drain (a no-op unless powered),
+        // so the DDR bit set next pulls the line low.
+        unsafe { asm!("cbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack)) }
+        pull_low();
+        delay_us::<500>();
+        let present = avr_device::interrupt::free(|_| {
+            release();
+            delay_us::<70>();
+            !line_high()
+        });
+        delay_us::<430>();
+        present
+    }
+
+    /// Drives the line high (a strong pull-up) so that parasite-powered sensors can
+    /// convert, until the next [`OneWire::reset`]. Call it right after CONVERT T.
+    pub fn power(&mut self) {
+        // SAFETY: sbi on PD6's own PORT bit, then its DDR bit: the pin goes from released
+        // to driven high without passing through low.
+        unsafe {
+            asm!("sbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack));
+            asm!("sbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack));
+        }
+    }
+
+    /// Writes one bit in one time slot.
+    #[inline(never)]
+    pub fn write_bit(&mut self, bit: bool) {
+        if bit {
+            avr_device::interrupt::free(|_| {
+                pull_low();
+                delay_us::<6>();
+                release();
+            });
+            delay_us::<64>();
+        } else {
+            avr_device::interrupt::free(|_| {
+                pull_low();
+                delay_us::<62>();
+                release();
+            });
+            delay_us::<8>();
+        }
+    }
+
+    /// Reads one bit in one time slot.
+    #[inline(never)]
+    pub fn read_bit(&mut self) -> bool {
+        let bit = avr_device::interrupt::free(|_| {
+            pull_low();
+            delay_us::<2>();
+            release();
+            delay_us::<10>();
+            line_high()
+        });
+        delay_us::<55>();
+        bit
+    }
+
+    /// Writes a byte, least significant bit first.
+    #[inline(never)]
+    pub fn write_byte(&mut self, byte: u8) {
+        for i in 0..8 {
+            self.write_bit(byte & (1 << i) != 0);
+        }
+    }
+
+    /// Reads a byte, least significant bit first.
+    #[inline(never)]
+    pub fn read_byte(&mut self) -> u8 {
+        let mut byte = 0;
+        for i in 0..8 {
+            if self.read_bit() {
+                byte |= 1 << i;
+            }
+        }
+        byte
+    }
+}
+
+/// Pulls the line low (PD6 an output at 0).
+#[inline(always)]
+fn pull_low() {
+    // SAFETY: one atomic sbi on PD6's DDR bit, owned by the `OneWire` that calls this.
+    unsafe { asm!("sbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack)) }
+}
+
+/// Lets the line go (PD6 an input).
+#[inline(always)]
+fn release() {
+    // SAFETY: one atomic cbi on PD6's DDR bit, owned by the `OneWire` that calls this.
+    unsafe { asm!("cbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack)) }
+}
+
+/// The line's level now.
+#[inline(always)]
+fn line_high() -> bool {
+    let v: u8;
+    // SAFETY: reads PIND; no side effects.
+    unsafe { asm!("in {v}, {pin}", v = out(reg) v, pin = const PIND, options(nostack, nomem)) }
+    v & (1 << BIT) != 0
+}
+
+/// Busy-waits `US` µs (1..=16383): a loop of `sbiw` (2 cycles) and a taken `brne` (2
+/// cycles) runs four times per µs at 16 MHz.
+#[inline(always)]
+fn delay_us<const US: u16>() {
+    let loops: u16 = US * (crate::F_CPU / 4_000_000) as u16;
+    // SAFETY: only the counter register pair changes; no memory or stack is touched.
+    unsafe {
+        asm!(
+            "1:",
+            "sbiw {n}, 1",
+            "brne 1b",
+            n = inout(reg_iw) loops => _,
+            options(nomem, nostack),
+        )
+    }
+}

@@ -1,0 +1,84 @@
+//! The TWI as an interrupt-driven I2C slave: each TWINT is one bus event, classified
+//! from TWSR; the task answers it and releases the bus with [`TwiSlave::release`].
+//!
+//! TWCR holds the executor's TWIE beside the driver's bits, so it is written only
+//! through `executor::hw`.
+
+use avr_device::atmega328p::TWI;
+use executor::hw::{self, DriverReg};
+
+const TWINT: u8 = 1 << 7;
+const TWEA: u8 = 1 << 6;
+const TWSTO: u8 = 1 << 4;
+const TWEN: u8 = 1 << 2;
+
+/// What one TWINT means for a slave.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Event {
+    /// Own SLA+W (or a general call) acknowledged: a write starts.
+    WriteStart,
+    /// A data byte of a write arrived.
+    Data(u8),
+    /// STOP or repeated START while addressed as a receiver.
+    Stop,
+    /// Own SLA+R acknowledged: load the first byte.
+    ReadStart,
+    /// The master acknowledged the byte sent: load the next one.
+    ReadMore,
+    /// The master ended the read (NACK), or took the last byte.
+    ReadEnd,
+    /// An illegal START/STOP: the bus must be recovered.
+    BusError,
+    /// Any other status (arbitration cases of a master, never seen here).
+    Other,
+}
+
+/// The TWI in slave mode.
+pub struct TwiSlave {
+    twi: TWI,
+}
+
+impl TwiSlave {
+    /// Listens on 7-bit address `addr` (general calls ignored), acknowledging.
+    pub fn new(twi: TWI, addr: u8) -> TwiSlave {
+        // SAFETY: TWAR takes any address; bit 0 (TWGCE) = 0 ignores general calls.
+        twi.twar().write(|w| unsafe { w.bits(addr << 1) });
+        hw::write(DriverReg::Twcr, TWEA | TWEN);
+        TwiSlave { twi }
+    }
+
+    /// The event behind the current TWINT.
+    #[inline]
+    pub fn event(&self) -> Event {
+        match self.twi.twsr().read().bits() & 0xf8 {
+            0x60 | 0x68 | 0x70 | 0x78 => Event::WriteStart,
+            0x80 | 0x88 | 0x90 | 0x98 => Event::Data(self.twi.twdr().read().bits()),
+            0xa0 => Event::Stop,
+            0xa8 | 0xb0 => Event::ReadStart,
+            0xb8 => Event::ReadMore,
+            0xc0 | 0xc8 => Event::ReadEnd,
+            0x00 => Event::BusError,
+            _ => Event::Other,
+        }
+    }
+
+    /// Loads the byte the master reads next.
+    #[inline]
+    pub fn send(&mut self, byte: u8) {
+        // SAFETY: TWDR takes any byte while TWINT is set.
+        self.twi.twdr().write(|w| unsafe { w.bits(byte) });
+    }
+
+    /// Clears TWINT and goes on acknowledging: the bus moves on.
+    #[inline]
+    pub fn release(&mut self) {
+        hw::write(DriverReg::Twcr, TWINT | TWEA | TWEN);
+    }
+
+    /// Recovers from a bus error: TWSTO in slave mode releases the lines and returns the
+    /// TWI to the unaddressed state.
+    #[inline]
+    pub fn recover(&mut self) {
+        hw::write(DriverReg::Twcr, TWINT | TWSTO | TWEA | TWEN);
+    }
+}

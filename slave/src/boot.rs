@@ -1,0 +1,86 @@
+//! `init`: the peripherals and pins in their power-up state, and the logic for this
+//! board's variant and EEPROM address.
+
+use drivers::adc::Adc;
+use drivers::eeprom::Eeprom;
+use drivers::pcint::PortDChanges;
+use drivers::pwm::Pwm;
+use drivers::timebase::Timebase;
+use drivers::twi_slave::TwiSlave;
+use drivers::watchdog::{Timeout, Watchdog};
+use executor::Device;
+use shared::slave::{AdcCollector, Core, EdgeCounter, Variant};
+
+use crate::clock::Clock;
+use crate::encoder::Encoder;
+use crate::registers::{Registers, Staging};
+use crate::sampler::Sampler;
+use crate::stage::Stage;
+
+/// PCMSK2: PD0 (encoder A) on drive/steer boards; nothing on lift/lift boards.
+const fn encoder_mask(variant: Variant) -> u8 {
+    if variant.has_drive() {
+        1 << 0
+    } else {
+        0
+    }
+}
+
+/// Everything `init` hands to the executor.
+pub struct Parts {
+    /// The register file (TWI and tick).
+    pub regs: Registers,
+    /// The tick's copy of it.
+    pub staging: Staging,
+    /// ADC readings (ADC and tick).
+    pub adc: AdcCollector,
+    /// Encoder edges (encoder and tick).
+    pub edges: EdgeCounter,
+    /// The µs clock (compare A, encoder and tick).
+    pub clock: Clock,
+    /// The TWI, enabled only with a valid address.
+    pub twi: Option<TwiSlave>,
+    /// The ADC round robin.
+    pub sampler: Sampler,
+    /// The encoder pins.
+    pub encoder: Encoder,
+    /// The board's logic.
+    pub core: Core,
+    /// Pins, PWM and watchdog.
+    pub stage: Stage,
+    /// Timer0, kept running.
+    pub timebase: Timebase,
+    /// PCMSK2, kept as set.
+    pub changes: PortDChanges,
+}
+
+/// Brings the board up as `variant`.
+pub fn init(dp: Device, variant: Variant) -> Parts {
+    drivers::stack::paint();
+    let (mut watchdog, _cause) = Watchdog::new(dp.WDT, &dp.CPU);
+    watchdog.start(Timeout::S1);
+    // SAFETY: D9/D10 are used only by the PWM, D2/D3/D4/D7 and A2/A3 only by the
+    // stage, PD0/PD1 only by the encoder (the USART stays off); each is taken once.
+    let (mut stage, encoder) = unsafe {
+        let pwm = Pwm::new(dp.TC1);
+        (Stage::new(pwm, watchdog), Encoder::new())
+    };
+    stage.boot();
+    let core = Core::new(variant, Eeprom::new(dp.EEPROM).read(0));
+    let twi = core.address().map(|addr| TwiSlave::new(dp.TWI, addr));
+    let (timebase, stamp) = Timebase::start(dp.TC0);
+    Parts {
+        regs: Registers::new(variant),
+        staging: Staging::new(variant),
+        adc: AdcCollector::new(),
+        edges: EdgeCounter::new(),
+        clock: Clock::new(stamp),
+        twi,
+        sampler: Sampler::start(Adc::new(dp.ADC)),
+        encoder,
+        core,
+        stage,
+        timebase,
+        changes: PortDChanges::new(dp.EXINT, encoder_mask(variant)),
+    }
+}

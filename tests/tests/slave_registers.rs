@@ -1,0 +1,273 @@
+//! Emulator tests of both slave images' register files over I2C, the test acting as the
+//! master and addressing the board the way the master relays a PC program's requests:
+//! power-up values (reference §8.1), every writable register written and read back,
+//! read-only registers, missing ids, contiguous reads, empty writes, and a bad EEPROM
+//! address.
+
+mod slave_support;
+
+use harness::Pin;
+use shared::regs::{id, BoardKind};
+use slave_support::{rig, rig_with, Rig};
+
+/// Writable registers' power-up raw values that are not 0, drive/steer (§8.1).
+const DS_BOOT: &[(u8, u16)] = &[
+    (5, 0x0502),  // EXCEPTIONDATA: BOOT, no motor
+    (9, 0x7fff),  // DRIVE_REQSPEED
+    (12, 0x7fff), // DRIVE_DGAIN
+    (15, 0x4ccc), // DRIVE_OVERCURRENTTHRESH
+    (24, 0x77),   // DRIVE_STALLCHECK
+    (26, 0x7fff), // STEER_REQPOS
+    (29, 0x7fff), // STEER_DGAIN
+    (40, 0x77),   // STEER_STALLCHECK
+    (43, 0xfe),   // STEER_CALIBMAX
+    (45, 500),    // FAULTTIME (new)
+];
+
+/// Writable registers' power-up raw values that are not 0, lift/lift (§8.1).
+const LL_BOOT: &[(u8, u16)] = &[
+    (5, 0x0502),  // EXCEPTIONDATA: BOOT, no motor
+    (9, 0x7fff),  // ONE_REQPOS
+    (12, 0x7fff), // ONE_DGAIN
+    (24, 0xfe),   // ONE_CALIBMAX
+    (25, 0x77),   // ONE_STALLCHECK
+    (27, 0x7fff), // TWO_REQPOS
+    (30, 0x7fff), // TWO_DGAIN
+    (42, 0xfe),   // TWO_CALIBMAX
+    (43, 0x77),   // TWO_STALLCHECK
+    (45, 500),    // FAULTTIME (new)
+];
+
+fn expected_boot(board: BoardKind, reg: u8) -> u16 {
+    let table = match board {
+        BoardKind::LiftLift => LL_BOOT,
+        _ => DS_BOOT,
+    };
+    table
+        .iter()
+        .find(|&&(r, _)| r == reg)
+        .map_or(0, |&(_, v)| v)
+}
+
+fn booted(addr: u8) -> Rig {
+    let mut r = rig(addr);
+    r.run_us(5_000);
+    r
+}
+
+/// Splits a contiguous read into raw values per register of the table.
+fn split(r: &Rig, first: u8, bytes: &[u8]) -> Vec<(u8, u16)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    let mut reg = first;
+    while at < bytes.len() {
+        let size = usize::from(r.board.size_of(reg).unwrap_or(1));
+        let raw = if size == 1 {
+            u16::from(bytes[at])
+        } else {
+            u16::from_le_bytes([bytes[at], bytes[at + 1]])
+        };
+        out.push((reg, raw));
+        at += size;
+        reg += 1;
+    }
+    out
+}
+
+fn table_bytes(r: &Rig) -> usize {
+    (0..r.board.len())
+        .map(|id| usize::from(r.board.size_of(id).unwrap()))
+        .sum()
+}
+
+fn check_boot_values(addr: u8, status: u16) {
+    let mut r = booted(addr);
+    assert_eq!(r.read_raw(id::REG_STATUS), status);
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), 0x0502);
+    // One register at a time, as a PC program reads them.
+    for reg in 0..r.board.len() {
+        if r.board.is_writable(reg) == Some(true) && reg != id::REG_DEBUG {
+            assert_eq!(
+                r.read_raw(reg),
+                expected_boot(r.board, reg),
+                "register {reg} of {addr}"
+            );
+        }
+    }
+    // The whole table as one contiguous read gives the same values.
+    let n = table_bytes(&r);
+    let bytes = r.read_bytes(0, n);
+    assert_eq!(bytes.len(), n);
+    for (reg, raw) in split(&r, 0, &bytes) {
+        if r.board.is_writable(reg) == Some(true) && reg != id::REG_DEBUG {
+            assert_eq!(raw, expected_boot(r.board, reg), "run, register {reg}");
+        }
+        if reg == id::REG_STATUS {
+            assert_eq!(raw, status);
+        }
+    }
+}
+
+#[test]
+fn drive_steer_boots_with_the_reference_values() {
+    check_boot_values(1, 0x0009);
+}
+
+#[test]
+fn lift_lift_boots_with_the_reference_values() {
+    check_boot_values(3, 0x0005);
+}
+
+/// A distinct raw value per register, within its size.
+fn probe_value(size: u8, reg: u8) -> u16 {
+    if size == 1 {
+        u16::from(reg.wrapping_mul(7).wrapping_add(3))
+    } else {
+        0x1111u16.wrapping_mul(u16::from(reg)).wrapping_add(0x0102)
+    }
+}
+
+fn check_every_writable_register(addr: u8) {
+    let mut r = booted(addr);
+    // RESET, EXCEPTIONDATA and DEBUG have their own semantics (tested elsewhere);
+    // REG_DEBUG is overwritten every tick.
+    let skip = [id::REG_RESET, id::REG_EXCEPTIONDATA, id::REG_DEBUG];
+    let regs: Vec<u8> = (0..r.board.len())
+        .filter(|&reg| r.board.is_writable(reg) == Some(true) && !skip.contains(&reg))
+        .collect();
+    assert!(regs.len() >= 25, "{regs:?}");
+    for &reg in &regs {
+        let size = r.board.size_of(reg).unwrap();
+        r.write_raw(reg, probe_value(size, reg));
+    }
+    r.run_us(5_000);
+    for &reg in &regs {
+        let size = r.board.size_of(reg).unwrap();
+        assert_eq!(r.read_raw(reg), probe_value(size, reg), "register {reg}");
+    }
+    // Still in the boot exception: no write above raised anything.
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), 0x0502);
+}
+
+#[test]
+fn every_writable_register_reads_back_drive_steer() {
+    check_every_writable_register(2);
+}
+
+#[test]
+fn every_writable_register_reads_back_lift_lift() {
+    check_every_writable_register(6);
+}
+
+#[test]
+fn read_only_registers_ignore_writes() {
+    for addr in [1, 3] {
+        let mut r = booted(addr);
+        let status = r.read_raw(id::REG_STATUS);
+        let read_only: Vec<u8> = (0..r.board.len())
+            .filter(|&reg| r.board.is_writable(reg) == Some(false))
+            .collect();
+        assert!(read_only.len() >= 15);
+        for &reg in &read_only {
+            // The monitoring values are constant at rest in the boot exception, except
+            // the clock registers.
+            let before = r.read_raw(reg);
+            r.bus.write(r.addr, &[reg, 0x5a, 0xa5]).unwrap();
+            r.run_us(2_000);
+            if reg != id::REG_TIMER && reg != id::REG_INTERVALI2C {
+                assert_eq!(r.read_raw(reg), before, "register {reg} of {addr}");
+            }
+            assert_ne!(r.read_raw(reg), 0xa55a, "register {reg} of {addr}");
+        }
+        assert_eq!(r.read_raw(id::REG_STATUS), status);
+        // A run across a read-only register skips its bytes and writes the next one:
+        // STEER/ONE CURRENT (2 bytes, read-only) then the following writable register.
+        let (ro, next) = match r.board {
+            BoardKind::LiftLift => (id::REGLL_ONE_CURRENT, id::REGLL_ONE_CALIBMIN),
+            _ => (id::REGDS_STEER_CURRENT, id::REGDS_STEER_STALLCHECK),
+        };
+        assert_eq!(next, ro + 1);
+        r.bus.write(r.addr, &[ro, 0x11, 0x22, 0x42]).unwrap();
+        r.run_us(2_000);
+        assert_eq!(r.read_raw(next), 0x42);
+    }
+}
+
+#[test]
+fn missing_ids_read_0xcd_and_runs_are_contiguous() {
+    let mut r = booted(4);
+    let len = r.board.len();
+    for reg in [len, len + 1, 100, 255] {
+        assert_eq!(r.read_bytes(reg, 3), vec![0xcd; 3], "id {reg}");
+    }
+    // The last registers then past the end.
+    r.write_raw(id::REGDS_FAULTTIME, 0x0123);
+    r.write_raw(id::REGDS_DRIVE_MODE, 1);
+    r.run_us(2_000);
+    assert_eq!(
+        r.read_bytes(id::REGDS_FAULTTIME, 5),
+        vec![0x23, 0x01, 0x01, 0xcd, 0xcd]
+    );
+    // A run through mixed sizes equals the single reads.
+    let first = id::REGDS_STEER_REQPOS;
+    r.write_raw(id::REGDS_STEER_PGAIN, 0x2345);
+    r.write_raw(id::REGDS_STEER_DEADZONE, 0x09);
+    r.run_us(2_000);
+    let bytes = r.read_bytes(first, 2 * 14 + 4);
+    let run = split(&r, first, &bytes);
+    assert_eq!(run.len(), 18);
+    for (reg, raw) in run {
+        if r.board.is_writable(reg) == Some(true) {
+            assert_eq!(raw, r.read_raw(reg), "register {reg}");
+        }
+    }
+    // The same run with a repeated START (write-read in one transaction).
+    let again = r
+        .bus
+        .write_read(r.addr, &[id::REGDS_STEER_PGAIN], 2)
+        .unwrap();
+    assert_eq!(again, vec![0x45, 0x23]);
+}
+
+#[test]
+fn empty_writes_change_nothing() {
+    let mut r = booted(5);
+    r.reset_exceptions();
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    // A probe (address only), and a pointer alone at EXCEPTIONDATA (what the master
+    // sends before every read of it): neither raises REMOTESLAVE.
+    r.bus.write(r.addr, &[]).unwrap();
+    r.bus.write(r.addr, &[id::REG_EXCEPTIONDATA]).unwrap();
+    let _ = r.bus.read(r.addr, 2).unwrap();
+    r.run_us(3_000);
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), 0x0502);
+}
+
+#[test]
+fn a_bad_address_keeps_the_board_off_the_bus() {
+    for (board, eeprom) in [(BoardKind::DriveSteer, 0u8), (BoardKind::LiftLift, 12u8)] {
+        let mut r = rig_with(board, eeprom, if eeprom == 0 { 1 } else { 3 });
+        let mut led = Vec::new();
+        for at_ms in [150u64, 450, 900, 1_350, 1_650, 2_100] {
+            let now = r.bus.micros() / 1_000;
+            r.run_us((at_ms - now) * 1_000);
+            led.push((r.pin(Pin::a(2)), r.pin(Pin::a(3))));
+            // Motors off: every direction pin low, no duty.
+            for d in [2, 3, 4, 7] {
+                assert!(!r.pin(Pin::d(d)), "D{d} at {at_ms} ms");
+            }
+            assert_eq!(r.duty(Pin::d(9)), 0.0);
+            assert_eq!(r.duty(Pin::d(10)), 0.0);
+        }
+        // Both off, LED1, LED2; and again.
+        let cycle = [(false, false), (true, false), (false, true)];
+        assert_eq!(led[..3], cycle, "eeprom {eeprom}");
+        assert_eq!(led[3..], cycle, "eeprom {eeprom}");
+        for addr in [0u8, 1, 3, eeprom] {
+            if addr != 0 {
+                assert!(r.bus.write(addr, &[id::REG_PING, 0]).is_err(), "{addr}");
+            }
+        }
+    }
+}
