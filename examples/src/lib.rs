@@ -1,1 +1,50 @@
+//! Pieces the test firmwares share: UART0 polled at 115200 baud (U2X, UBRR0 16, with
+//! UCSR0A and UCSR0C written before UBRR0, since the emulator applies the baud rate when
+//! UBRR0 is written) and decimal printing. Each `src/bin` firmware shows one concept.
 #![no_std]
+
+/// Polled UART0 output for the fixtures' reports.
+pub mod uart {
+    use avr_device::atmega328p::USART0;
+
+    /// Configures 115200 8N1, receiver and transmitter on, no interrupts.
+    pub fn uart_init(uart: &USART0) {
+        uart.ucsr0a().write(|w| w.u2x0().set_bit());
+        uart.ucsr0c().write(|w| w.ucsz0().chr8());
+        uart.ucsr0b()
+            .write(|w| w.rxen0().set_bit().txen0().set_bit());
+        uart.ubrr0().write(|w| w.set(16));
+    }
+
+    /// Sends one byte, waiting for the data register.
+    pub fn put(uart: &USART0, byte: u8) {
+        while uart.ucsr0a().read().udre0().bit_is_clear() {}
+        uart.udr0().write(|w| w.set(byte));
+    }
+
+    /// Sends every byte of `s`.
+    pub fn put_str(uart: &USART0, s: &[u8]) {
+        for &b in s {
+            put(uart, b);
+        }
+    }
+
+    /// Prints `n` in decimal without leading zeros.
+    pub fn put_dec(uart: &USART0, n: u16) {
+        let mut digits = [0u8; 5];
+        let mut len = 0;
+        let mut v = n;
+        loop {
+            digits[len] = b'0' + (v % 10) as u8;
+            len += 1;
+            v /= 10;
+            if v == 0 {
+                break;
+            }
+        }
+        while len > 0 {
+            len -= 1;
+            put(uart, digits[len]);
+        }
+    }
+}

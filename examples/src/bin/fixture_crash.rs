@@ -3,26 +3,8 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, USART0};
-
-fn uart_init(uart: &USART0) {
-    uart.ucsr0a().write(|w| w.u2x0().set_bit());
-    uart.ucsr0c().write(|w| w.ucsz0().chr8());
-    uart.ucsr0b()
-        .write(|w| w.rxen0().set_bit().txen0().set_bit());
-    uart.ubrr0().write(|w| w.set(16));
-}
-
-fn put(uart: &USART0, byte: u8) {
-    while uart.ucsr0a().read().udre0().bit_is_clear() {}
-    uart.udr0().write(|w| w.set(byte));
-}
-
-fn put_str(uart: &USART0, s: &[u8]) {
-    for &b in s {
-        put(uart, b);
-    }
-}
+use avr_device::atmega328p::Peripherals;
+use firmware_examples::uart::{put_str, uart_init};
 
 #[avr_device::entry]
 fn main() -> ! {

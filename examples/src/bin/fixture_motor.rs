@@ -18,6 +18,7 @@
 #![feature(abi_avr_interrupt)]
 
 use core::cell::Cell;
+use firmware_examples::uart::uart_init;
 
 use avr_device::atmega328p::{Peripherals, ADC, PORTB, PORTD, TC1, USART0};
 use avr_device::interrupt::Mutex;
@@ -69,14 +70,6 @@ fn TIMER2_COMPA() {
         let w = WINDOWS.borrow(cs);
         w.set(w.get().wrapping_add(1));
     });
-}
-
-fn uart_init(uart: &USART0) {
-    uart.ucsr0a().write(|w| w.u2x0().set_bit());
-    uart.ucsr0c().write(|w| w.ucsz0().chr8());
-    uart.ucsr0b()
-        .write(|w| w.rxen0().set_bit().txen0().set_bit());
-    uart.ubrr0().write(|w| w.set(16));
 }
 
 /// A line being sent without blocking the loop.

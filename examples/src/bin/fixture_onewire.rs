@@ -18,6 +18,7 @@
 #![no_main]
 
 use avr_device::atmega328p::{Peripherals, PORTD, USART0};
+use firmware_examples::uart::{put, put_str};
 
 /// PD6's bit in the port registers.
 const PIN: u8 = 1 << 6;
@@ -32,17 +33,6 @@ fn uart_init(uart: &USART0) {
     uart.ucsr0c().write(|w| w.ucsz0().chr8());
     uart.ucsr0b().write(|w| w.txen0().set_bit());
     uart.ubrr0().write(|w| w.set(16));
-}
-
-fn put(uart: &USART0, byte: u8) {
-    while uart.ucsr0a().read().udre0().bit_is_clear() {}
-    uart.udr0().write(|w| w.set(byte));
-}
-
-fn put_str(uart: &USART0, s: &[u8]) {
-    for &b in s {
-        put(uart, b);
-    }
 }
 
 fn put_hex(uart: &USART0, bytes: &[u8]) {

@@ -9,6 +9,7 @@
 #![feature(abi_avr_interrupt)]
 
 use core::cell::Cell;
+use firmware_examples::uart::{put, put_str};
 
 use avr_device::atmega328p::{Peripherals, USART0};
 use avr_device::interrupt::Mutex;
@@ -63,17 +64,6 @@ fn PCINT2() {
         e.width.set(width);
         e.fresh.set(fresh);
     });
-}
-
-fn put(uart: &USART0, byte: u8) {
-    while uart.ucsr0a().read().udre0().bit_is_clear() {}
-    uart.udr0().write(|w| w.set(byte));
-}
-
-fn put_str(uart: &USART0, s: &[u8]) {
-    for &b in s {
-        put(uart, b);
-    }
 }
 
 fn put_dec(uart: &USART0, n: u16) {

@@ -6,8 +6,9 @@
 #![feature(abi_avr_interrupt)]
 
 use core::cell::Cell;
+use firmware_examples::uart::{put_dec, put_str, uart_init};
 
-use avr_device::atmega328p::{Peripherals, USART0};
+use avr_device::atmega328p::Peripherals;
 use avr_device::interrupt::Mutex;
 
 /// Timer ticks since boot, shared with the compare-match interrupt. Unmangled so
@@ -21,44 +22,6 @@ fn TIMER1_COMPA() {
         let t = TICKS.borrow(cs);
         t.set(t.get().wrapping_add(1));
     });
-}
-
-fn uart_init(uart: &USART0) {
-    uart.ucsr0a().write(|w| w.u2x0().set_bit());
-    uart.ucsr0c().write(|w| w.ucsz0().chr8());
-    uart.ucsr0b()
-        .write(|w| w.rxen0().set_bit().txen0().set_bit());
-    uart.ubrr0().write(|w| w.set(16));
-}
-
-fn put(uart: &USART0, byte: u8) {
-    while uart.ucsr0a().read().udre0().bit_is_clear() {}
-    uart.udr0().write(|w| w.set(byte));
-}
-
-fn put_str(uart: &USART0, s: &[u8]) {
-    for &b in s {
-        put(uart, b);
-    }
-}
-
-/// Prints `n` in decimal without leading zeros.
-fn put_dec(uart: &USART0, n: u16) {
-    let mut digits = [0u8; 5];
-    let mut len = 0;
-    let mut v = n;
-    loop {
-        digits[len] = b'0' + (v % 10) as u8;
-        len += 1;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    while len > 0 {
-        len -= 1;
-        put(uart, digits[len]);
-    }
 }
 
 #[avr_device::entry]

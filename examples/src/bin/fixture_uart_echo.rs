@@ -3,13 +3,10 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, USART0};
+use avr_device::atmega328p::Peripherals;
+use firmware_examples::uart::put;
 
 /// Sends one byte, waiting for the transmit buffer to be free.
-fn put(uart: &USART0, byte: u8) {
-    while uart.ucsr0a().read().udre0().bit_is_clear() {}
-    uart.udr0().write(|w| w.set(byte));
-}
 
 #[avr_device::entry]
 fn main() -> ! {
