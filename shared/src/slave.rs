@@ -22,6 +22,7 @@
 //! | [`leds`] | LED patterns |
 //! | [`motor`] | one motor: parameters, controller, monitoring values |
 //! | [`clock`] | uptime and tick interval |
+//! | [`divide`] | the one small `u32` division all of them use |
 //! | [`io`] | the tick's inputs and outputs |
 //! | `core` | [`Core`], which ties them together |
 
@@ -29,6 +30,7 @@ pub mod board;
 pub mod clock;
 mod core;
 pub mod current;
+pub mod divide;
 pub mod encoder;
 pub mod fault;
 pub mod io;

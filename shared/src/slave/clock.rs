@@ -1,6 +1,8 @@
 //! The slave's sense of time: a wrapping µs clock in, uptime in ms and the interval
 //! between ticks out.
 
+use super::divide::div_rem;
+
 /// Time kept from the µs clock the firmware passes to each tick.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct Clock {
@@ -26,8 +28,7 @@ impl Clock {
     pub fn advance(&mut self, now_us: u32) -> bool {
         let Some(last) = self.last_us else {
             self.last_us = Some(now_us);
-            self.ms = now_us / 1000;
-            self.residual_us = now_us % 1000;
+            (self.ms, self.residual_us) = div_rem(now_us, 1000);
             return true;
         };
         let elapsed = now_us.wrapping_sub(last);
@@ -42,8 +43,9 @@ impl Clock {
                 self.ms = self.ms.wrapping_add(1);
             }
         } else {
-            self.ms = self.ms.wrapping_add(total / 1000);
-            total %= 1000;
+            let (ms, rest) = div_rem(total, 1000);
+            self.ms = self.ms.wrapping_add(ms);
+            total = rest;
         }
         self.residual_us = total;
         false

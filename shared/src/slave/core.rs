@@ -271,8 +271,10 @@ impl Core {
     }
 
     /// Phase 3: writes the monitoring registers, STATUS, TIMER, INTERVALI2C,
-    /// EXCEPTIONDATA and DEBUG.
-    pub fn publish(&self, regs: &mut RegisterFile) {
+    /// EXCEPTIONDATA and DEBUG. A motor's mapped monitoring registers (read-only to the
+    /// bus) are written only when they were remapped since the previous publish, so
+    /// `regs` must be the same file every tick.
+    pub fn publish(&mut self, regs: &mut RegisterFile) {
         if self.address.is_none() {
             return;
         }
@@ -288,8 +290,10 @@ impl Core {
         regs.set(id::REG_DEBUG, debug);
         for motor in MotorId::BOTH {
             let layout = Layout::of(self.variant, motor);
-            let m = &self.motors[motor.index()];
-            regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
+            let m = &mut self.motors[motor.index()];
+            if m.take_fresh() {
+                regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
+            }
             regs.set(layout.monitor_id(Monitor::Current), u16::from(m.current()));
         }
         if self.variant.has_drive() {

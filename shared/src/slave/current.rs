@@ -45,15 +45,10 @@ impl CurrentFilter {
     fn feed(&mut self, c: u8) {
         let f = self.f;
         let q = u16::from(c) << 8;
-        let times_p = |x: u8| -> u16 {
-            let x = u16::from(x);
-            if q > f {
-                (x << 4) + (x << 3) + x // p = 25
-            } else {
-                x << 1 // p = 2
-            }
-        };
-        let (high, low) = ((f >> 8) as u8, f as u8);
+        // p once per step; each product is one 8×8-bit hardware multiply on the AVR.
+        let p: u8 = if q > f { 25 } else { 2 };
+        let times_p = |x: u8| -> u16 { u16::from(x) * u16::from(p) };
+        let [low, high] = f.to_le_bytes();
         let fall = times_p(high) + ((times_p(low) + 255) >> 8);
         self.f = f.wrapping_sub(fall).wrapping_add(times_p(c));
     }

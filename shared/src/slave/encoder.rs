@@ -12,6 +12,7 @@
 //!
 //! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
 
+use super::divide::{div_rem, fraction};
 use crate::pid::Fix;
 
 /// The original's window: the drive updates on the first tick more than this long after
@@ -98,21 +99,29 @@ pub fn rate(edges: u32, span_us: u32) -> Fix {
     // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check).
     let scaled = (edges <= 4_294).then(|| edges * 1_000_000);
     let (whole, rem, span) = match scaled {
-        Some(scaled) => (scaled / span_us, scaled % span_us, span_us),
+        Some(scaled) => {
+            let (whole, rem) = div_rem(scaled, span_us);
+            (whole, rem, span_us)
+        }
         // Only for more than 4294 edges in one update: 10^6 = 15625·64.
         None => {
-            let span = (span_us / 64).max(1);
+            let span = (span_us >> 6).max(1);
             // 274877·15625 < 2^32; more edges than that in one update is past any speed.
             let scaled = edges.min(274_877) * 15_625;
-            (scaled / span, scaled % span, span)
+            let (whole, rem) = div_rem(scaled, span);
+            (whole, rem, span)
         }
     };
     if whole > 32_767 {
         return Fix::MAX;
     }
-    // rem < span; 8 fraction bits are plenty and keep rem << 8 within u32.
-    let fraction = if span < 1 << 24 { (rem << 8) / span } else { 0 };
-    Fix::from_bits((whole << 16 | fraction << 8) as i32)
+    // rem < span; 8 fraction bits are plenty (none past 2^24 µs, as before).
+    let frac = if span < 1 << 24 {
+        fraction(rem, span, 8)
+    } else {
+        0
+    };
+    Fix::from_bits((whole << 16 | frac << 8) as i32)
 }
 
 /// The drive's speed measurement between two control updates.
@@ -171,7 +180,8 @@ impl SpeedMeter {
             DriveMode::EdgeTiming => self.edge_timing(now_us),
         };
         let reverse = if n > 0 {
-            u32::from(self.b_high) > n / 3
+            // b > ⌊n/3⌋ exactly when 3·b > n (no division).
+            3 * u32::from(self.b_high) > n
         } else {
             self.speed < Fix::ZERO
         };

@@ -15,6 +15,7 @@
 //! two LEDs, so it cannot be taken for any other state.
 
 use super::board::{MotorId, Variant};
+use super::divide::div_rem;
 use super::state::{Cause, State};
 
 /// How long the address is shown after boot.
@@ -177,7 +178,7 @@ pub fn latch(state: &State) -> LedLevels {
 
 /// The bad-address pattern at `ms` into the cycle's repetition (any ms clock).
 pub fn bad_address(phase_ms: u32) -> LedLevels {
-    let phase = phase_ms % BAD_CYCLE_MS;
+    let (_, phase) = div_rem(phase_ms, BAD_CYCLE_MS);
     LedLevels {
         led1: (BAD_LED1_FROM_MS..BAD_LED2_FROM_MS).contains(&phase),
         led2: phase >= BAD_LED2_FROM_MS,

@@ -2,6 +2,7 @@
 
 use super::board::{Monitor, Param};
 use super::current::CurrentFilter;
+use super::divide::div_1000;
 use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
 use super::pot::Calibration;
 use super::scale::Scale;
@@ -111,7 +112,9 @@ impl Params {
         calibration: Calibration::POWER_ON,
     };
 
-    /// Applies a written register.
+    /// Applies a written register. Never inlined: the tick applies writes to either
+    /// motor, and one copy of the eleven conversions serves both.
+    #[inline(never)]
     pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
         let scale = kind.param_scale(param);
         let g = &mut self.gains;
@@ -199,6 +202,8 @@ pub struct Motor {
     /// When the monitoring values were last mapped, µs.
     mapped_us: u32,
     monitors: Monitors,
+    /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
+    fresh: bool,
     /// The duty the controller last asked for.
     demand: Duty,
     /// The duty applied to the motor now (0 when stopped).
@@ -218,6 +223,7 @@ impl Motor {
             last_update_us: 0,
             mapped_us: 0,
             monitors: Monitors::POWER_ON,
+            fresh: true,
             demand: Duty::IDLE,
             applied: 0,
         }
@@ -265,6 +271,7 @@ impl Motor {
         // monitoring registers are refreshed from every update at most every 10 ms.
         if cx.now_us.wrapping_sub(self.mapped_us) >= MONITOR_PERIOD_US {
             self.mapped_us = cx.now_us;
+            self.fresh = true;
             let kind = self.kind;
             let map = |monitor, value| match kind.monitor_scale(monitor) {
                 Some(scale) => scale.map(value),
@@ -317,16 +324,47 @@ impl Motor {
         &self.monitors
     }
 
+    /// Whether the mapped monitoring values changed since the previous call (true at
+    /// power-up), clearing the mark: they need writing to the register file only then.
+    pub fn take_fresh(&mut self) -> bool {
+        core::mem::take(&mut self.fresh)
+    }
+
     /// The controller's state.
     pub fn pid(&self) -> &Pid {
         &self.pid
     }
 }
 
-/// ⌊µs/1000⌋, saturating at 65535; a 16-bit division for the usual short intervals.
+/// ⌊µs/1000⌋, saturating at 65535.
 fn interval_ms(us: u32) -> u16 {
-    match u16::try_from(us) {
-        Ok(short) => short / 1000,
-        Err(_) => u16::try_from(us / 1000).unwrap_or(u16::MAX),
+    u16::try_from(div_1000(us)).unwrap_or(u16::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn monitors_are_fresh_at_power_up_and_after_each_remap_only() {
+        let mut m = Motor::new(Kind::Position);
+        assert!(m.take_fresh(), "power-up values need writing once");
+        assert!(!m.take_fresh());
+        m.start(0);
+        let cx = |now_us| UpdateContext {
+            now_us,
+            now_ms: now_us / 1000,
+            in_exception: false,
+            fault_time_ms: 500,
+        };
+        // Started at 0: the first update maps, the next one 2 ms later does not.
+        m.update(Fix::from_num(12), &cx(2_000));
+        assert!(m.take_fresh());
+        assert_eq!(m.monitors().raw[5], INTERVAL.map_int(2));
+        m.update(Fix::from_num(13), &cx(4_000));
+        assert!(!m.take_fresh());
+        m.update(Fix::from_num(14), &cx(12_000));
+        assert!(m.take_fresh());
+        assert_eq!(m.monitors().interval_ms, 8);
     }
 }

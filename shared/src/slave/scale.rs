@@ -15,6 +15,7 @@
 //! Ranges with span 65535 would overflow `raw·span`; the tables have none (the widest
 //! is 8000).
 
+use super::divide::div_rem;
 use crate::pid::Fix;
 use crate::regs::Register;
 
@@ -92,15 +93,15 @@ fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
     let (span, full) = (u32::from(span), u32::from(full.max(1)));
     // raw·span ≤ 65535·65535 < 2^32; the result is at most 65535·span/full ≤ span + 1.
     let product = u32::from(raw) * span;
-    let whole = product / full;
-    let fraction = ((product % full) << 16) / full;
+    let (whole, rem) = div_rem(product, full);
+    let fraction = div_rem(rem << 16, full).0;
     let bits = (whole << 16 | fraction) as i32;
     Fix::from_bits(bits.wrapping_add(i32::from(min) << 16))
 }
 
 #[inline(never)]
 fn unmap_int(raw: u16, span: u16, full: u16) -> u16 {
-    let value = u32::from(raw) * u32::from(span) / u32::from(full.max(1));
+    let (value, _) = div_rem(u32::from(raw) * u32::from(span), u32::from(full.max(1)));
     u16::try_from(value).unwrap_or(u16::MAX)
 }
 
