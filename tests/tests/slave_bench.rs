@@ -5,7 +5,6 @@
 
 mod slave_support;
 
-use harness::simavr_ffi;
 use harness::{Avr, CpuState, Pin};
 use shared::regs::id;
 use slave_support::{rig, DRIVE_GAINS, STEER_GAINS_WHEEL_1};
