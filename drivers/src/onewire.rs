@@ -1,27 +1,33 @@
 //! A OneWire bus master on D6 (PD6), bit-banged as an open drain: the pin's PORT bit is
 //! 0, so setting its DDR bit pulls the line low and clearing it lets the external pull-up
 //! (or a sensor) decide the level. The one exception is [`OneWire::power`], which drives
-//! the line high to feed a parasite-powered conversion until the next reset. This is all the master's temperature sensors need:
-//! reset/presence, and read and write time slots, one bit or one byte at a time. What to
-//! send, and what the bits mean, is decided in `shared::master::temperature`.
+//! the line high to feed a parasite-powered conversion until the next reset.
+//!
+//! This is all the master's temperature sensors need: reset/presence, and read and write
+//! time slots, one bit or one byte at a time. What to send, and what the bits mean, is
+//! decided in `shared::master::temperature`.
 //!
 //! # Timing
-//! Every delay is a cycle-counted busy loop at 16 MHz. Interrupts are off only for the
-//! part of each slot whose length matters (at most ~70 µs), never across a whole byte,
-//! and are left as they were afterwards; the rest of a slot (the recovery time) may be
-//! stretched by interrupts, which OneWire allows.
+//! Every delay is a cycle-counted busy loop at 16 MHz. Interrupts are off only where a
+//! handler's few µs would break the slot: the short low pulse of a write-1 and a read
+//! slot's low pulse up to its sample (at most ~13 µs each), and they are left as they
+//! were afterwards. Elsewhere an interrupt only stretches a time that has room for it
+//! (the master's handlers take a few µs each, ~25 µs if all of them run back to back):
 //!
 //! | Step | Line low | Then | Interrupts off |
 //! |---|---|---|---|
-//! | reset | 500 µs | release, sample presence at 70 µs, wait 430 µs | release to sample (70 µs) |
-//! | power | – | line driven high until the next reset | – |
+//! | reset | 500 µs | release, sample presence at 70 µs, wait 430 µs | never |
 //! | write 1 | 6 µs | release, 64 µs recovery | the 6 µs low |
-//! | write 0 | 62 µs | release, 8 µs recovery | the 62 µs low |
+//! | write 0 | 62 µs | release, 8 µs recovery | never |
 //! | read | 2 µs | release, sample at ~12 µs, 55 µs recovery | low to sample (~13 µs) |
+//! | power | – | line driven high until the next reset | – |
 //!
-//! The datasheet windows: reset ≥ 480 µs, presence 15-60 µs after the release lasting
-//! 60-240 µs, write-1 low 1-15 µs, write-0 low 60-120 µs, read sample within 15 µs of
-//! the falling edge, slots ≥ 60 µs apart.
+//! The datasheet windows, with the room each leaves: reset ≥ 480 µs (no upper bound
+//! that matters); a presence pulse starts 15-60 µs after the release and lasts 60-240
+//! µs, so the line is low for certain from 60 to 120 µs and the 70-µs sample may come
+//! up to 50 µs late; write-0 low 60-120 µs (up to 58 µs late); write-1 low 1-15 µs and
+//! a read sample within 15 µs of the falling edge (no room: interrupts off); slots at
+//! least 60 µs apart (recovery may stretch freely).
 
 use core::arch::asm;
 
@@ -60,11 +66,9 @@ impl OneWire {
         unsafe { asm!("cbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack)) }
         pull_low();
         delay_us::<500>();
-        let present = avr_device::interrupt::free(|_| {
-            release();
-            delay_us::<70>();
-            !line_high()
-        });
+        release();
+        delay_us::<70>();
+        let present = !line_high();
         delay_us::<430>();
         present
     }
@@ -91,11 +95,9 @@ impl OneWire {
             });
             delay_us::<64>();
         } else {
-            avr_device::interrupt::free(|_| {
-                pull_low();
-                delay_us::<62>();
-                release();
-            });
+            pull_low();
+            delay_us::<62>();
+            release();
             delay_us::<8>();
         }
     }

@@ -14,6 +14,22 @@ pub fn finish<L: Lock<TxQueue>>(out: &mut Replies<'_, L>) {
     out.send(b' ');
     out.send_all(env!("BUILD_TIME").as_bytes());
     out.send_all(b"\r\n");
-    let _ = ufmt::uwrite!(out, "{}\r\n", drivers::cpu::free_ram());
+    decimal(out, drivers::cpu::free_ram());
+    out.send_all(b"\r\n");
     out.send_all(b"Ready\r\n");
+}
+
+/// Sends `n` in decimal, without leading zeros.
+fn decimal<L: Lock<TxQueue>>(out: &mut Replies<'_, L>, mut n: u16) {
+    let mut digits = [0u8; 5];
+    let mut len = 0;
+    for slot in digits.iter_mut() {
+        *slot = b'0' + (n % 10) as u8;
+        len += 1;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    digits[..len].iter().rev().for_each(|&d| out.send(d));
 }

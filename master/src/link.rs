@@ -1,34 +1,39 @@
-//! The PC link's plumbing: the queues between the USART tasks and idle, the clock, and
-//! the inter-byte timeout.
+//! The PC link's plumbing: the queues between the USART tasks and idle, and the clock.
 
 use heapless::Deque;
 use shared::master::LinkError;
 
-/// What the receive task hands to idle.
+/// What the receive task hands to idle: two bytes each, so the queue stays small.
 #[derive(Clone, Copy, Debug)]
 pub enum RxEvent {
     /// A byte received cleanly.
     Byte(u8),
-    /// A byte lost or damaged on the way in.
-    Error(LinkError),
+    /// A byte arrived with a framing error and was dropped.
+    Framing,
+    /// A byte was lost: the receiver overran, or the queue was full.
+    Overrun,
 }
 
-/// Received bytes waiting for idle: 48 bytes is over 4 ms of line time at 115200 baud,
-/// longer than idle is ever kept from them except while it relays over I2C.
-pub type RxQueue = Deque<RxEvent, 48>;
-
-/// Reply bytes waiting for the transmitter.
-pub type TxQueue = Deque<u8, 64>;
-
-/// A frame whose bytes stop for this long is dropped (docs/protocol.md): far above the
-/// gaps of a USB-serial bridge or a program writing byte by byte, far below the original
-/// PC library's 1 s reply timeout, so the next frame always starts clean.
-pub const INTER_BYTE_TIMEOUT_MS: u32 = 50;
-
-/// Whether a partial frame has waited longer than the inter-byte timeout.
-pub fn frame_stalled(now_ms: u32, last_byte_ms: u32) -> bool {
-    now_ms.wrapping_sub(last_byte_ms) > INTER_BYTE_TIMEOUT_MS
+impl RxEvent {
+    /// The error a damaged or lost byte is recorded as; `None` for a clean byte.
+    pub fn error(self) -> Option<LinkError> {
+        match self {
+            RxEvent::Byte(_) => None,
+            RxEvent::Framing => Some(LinkError::Framing),
+            RxEvent::Overrun => Some(LinkError::Overrun),
+        }
+    }
 }
+
+/// Received bytes waiting for idle: 32 bytes are 3 ms of line time at 115200 baud,
+/// longer than idle is ever kept from them (it drains them between any two pieces of
+/// work, the longest being a remote-control pass of ~1.5 ms; while it executes a PC
+/// frame, the PC waits for the reply).
+pub type RxQueue = Deque<RxEvent, 32>;
+
+/// Reply bytes waiting for the transmitter. A longer reply is streamed: the relay waits
+/// for room between the bytes it reads, so the reply goes out at line speed anyway.
+pub type TxQueue = Deque<u8, 32>;
 
 /// Milliseconds since boot, advanced by the 1 kHz tick.
 pub struct Clock {
@@ -87,14 +92,5 @@ impl<'a, L: Lock<TxQueue>> Replies<'a, L> {
     /// Queues every byte of `bytes`.
     pub fn send_all(&mut self, bytes: &[u8]) {
         bytes.iter().for_each(|&b| self.send(b));
-    }
-}
-
-impl<L: Lock<TxQueue>> ufmt::uWrite for Replies<'_, L> {
-    type Error = core::convert::Infallible;
-
-    fn write_str(&mut self, s: &str) -> Result<(), Self::Error> {
-        self.send_all(s.as_bytes());
-        Ok(())
     }
 }

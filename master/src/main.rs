@@ -2,8 +2,10 @@
 //!
 //! It links the PC to the nine motor controllers: it answers the PC-master protocol of
 //! `docs/protocol.md` on the USART, serves its own registers (device 0) and relays the
-//! others over I2C. Every decision is in `shared::master` and tested on the host; this
-//! crate moves bytes between the hardware and that logic.
+//! others over I2C; it pings the slaves, spreads their exceptions and notices a slave
+//! that goes silent; it reads the ten temperature sensors on the OneWire bus; and it lets
+//! an RC receiver drive the rover. Every decision is in `shared::master` and tested on
+//! the host; this crate moves bytes and bits between the hardware and that logic.
 //!
 //! Tasks (priorities are static; higher preempts lower):
 //!
@@ -11,31 +13,91 @@
 //! |---|---|---|---|
 //! | `receive` | USART_RX | 3 | `usart`, `rx` |
 //! | `transmit` | USART_UDRE (gated) | 3 | `usart`, `tx` |
+//! | `rc_edge` | PCINT2 (D2..D4) | 3 | `edges`: Timer1's count and the pin levels |
 //! | `tick` | TIMER0_COMPA, 1 kHz | 2 | `clock` |
-//! | idle | — | 0 | `rx`, `tx`, `clock`; frames, relay, watchdog |
+//! | idle | — | 0 | `rx`, `tx`, `clock`, `edges`; frames, schedule, OneWire, RC, LEDs |
+//!
+//! The RC edges run at the top priority so their time stamps wait for nothing but the
+//! other top tasks (a few µs) and the OneWire slots' interrupt-free windows (at most
+//! ~13 µs, see `drivers::onewire`): a pulse width is off by at most that much.
+//!
+//! Idle boots (banner line 1, OneWire discovery, the slaves' hard resets under the 1-s
+//! watchdog, then the rest of the banner and the 125-ms watchdog), then loops: take the
+//! RC edges, drain the PC link, then one piece of work in turn (the remote control's
+//! next write or pass, one OneWire step of a temperature tick, the schedule's next
+//! action), the LEDs; it sleeps when there was nothing to do.
+//!
+//! Functions marked `#[inline(never)]` wrap a large piece of the shared logic or are
+//! called from more than one place: kept out of line, each exists once in flash.
 #![no_std]
 #![no_main]
 #![feature(abi_avr_interrupt)]
+#![feature(asm_experimental_arch)]
 
 mod banner;
+mod builtins;
+mod leds;
 mod link;
 mod panic;
+mod pc;
 mod relay;
+mod remote;
+mod store;
+mod temperature;
+mod traffic;
 
-use drivers::pin::{Output, PORTB};
+use drivers::onewire::OneWire;
+use drivers::pcint::PortDChanges;
 use drivers::tick::Tick;
+use drivers::timer1::FreeRunning;
+use drivers::twi::TwiMaster;
 use drivers::usart::Usart0;
 use drivers::watchdog::{Timeout, Watchdog};
-use drivers::twi::TwiMaster;
-use link::{Clock, RxEvent, RxQueue, TxQueue};
+use leds::{BlueLed, Leds, StatusLed};
+use link::{Clock, Replies, RxEvent, RxQueue, TxQueue};
+use pc::{PcLink, Serve};
 use relay::TwiRelay;
-use shared::master::SlaveBus;
-use shared::regs::id::REG_RESET;
-use shared::master::Service;
-use shared::protocol::Parser;
+use remote::{EdgeQueue, RcEdges, RemoteControl, Work};
+use shared::master::{Schedule, Service};
+use store::Store;
+use temperature::Temperatures;
+use traffic::Traffic;
 
-/// The Uno's LED on D13 (PB5): lit during boot.
-type StatusLed = Output<PORTB, 5>;
+/// PD2..PD4 in PCMSK2: the RC channels raise PCINT2.
+const RC_PIN_MASK: u8 = 0b0001_1100;
+
+/// Idle's state that needs no hardware and starts as zeros: built at compile time (see
+/// `store`), in `.bss`.
+pub struct Blank {
+    /// The PC link's parser and inter-byte timeout.
+    pc: PcLink,
+    /// The temperature sensors.
+    temps: Temperatures,
+    /// The remote control.
+    remote: RemoteControl,
+}
+
+/// Idle's state that needs no hardware but starts with set values: built at compile
+/// time (see `store`), in `.data`.
+pub struct Preset {
+    /// The frame logic, the read sets and device 0.
+    service: Service,
+    /// The schedule of slave traffic.
+    schedule: Schedule,
+}
+
+/// The one instance of idle's zero-initialised state.
+static BLANK: Store<Blank> = Store::new(Blank {
+    pc: PcLink::new(),
+    temps: Temperatures::new(),
+    remote: RemoteControl::new(),
+});
+
+/// The one instance of idle's preset state.
+static PRESET: Store<Preset> = Store::new(Preset {
+    service: Service::new(),
+    schedule: Schedule::new(),
+});
 
 executor::app! {
     #[shared]
@@ -44,22 +106,27 @@ executor::app! {
         rx: RxQueue,
         tx: TxQueue,
         clock: Clock,
+        edges: EdgeQueue,
     }
 
     #[local]
     struct Local {
-        parser: Parser,
-        service: Service,
+        blank: &'static mut Blank,
+        preset: &'static mut Preset,
         watchdog: Watchdog,
-        status_led: StatusLed,
         relay: TwiRelay,
+        wire: OneWire,
+        leds: Leds,
+        rc_edges: RcEdges,
         _tick: Tick,
+        _changes: PortDChanges,
     }
 
     #[init]
     fn init;
 
-    #[idle(shared = [rx, tx, clock], local = [parser, service, watchdog, status_led, relay])]
+    #[idle(shared = [rx, tx, clock, edges],
+           local = [blank, preset, watchdog, relay, wire, leds])]
     fn idle;
 
     #[task(binds = USART_RX, priority = 3, shared = [usart, rx])]
@@ -68,92 +135,165 @@ executor::app! {
     #[task(binds = USART_UDRE, priority = 3, shared = [usart, tx], gated = true)]
     fn transmit;
 
+    #[task(binds = PCINT2, priority = 3, shared = [edges], local = [rc_edges])]
+    fn rc_edge;
+
     #[task(binds = TIMER0_COMPA, priority = 2, shared = [clock])]
     fn tick;
 }
 
 fn init(cx: init::Context) -> (Shared, Local) {
+    // First, so the emulator can read the stack's high-water mark later.
+    drivers::stack::paint();
     let dp = cx.device;
     let (mut watchdog, _cause) = Watchdog::new(dp.WDT, &dp.CPU);
     // Boot runs under the 1 s watchdog, as the original's boot resets did.
     watchdog.start(Timeout::S1);
-    // SAFETY: D13 is used by nothing else in this firmware.
-    let status_led = unsafe { StatusLed::take() };
-    status_led.set_high();
+    // SAFETY: D13 and D7 are used by nothing else in this firmware.
+    let leds = Leds::new(unsafe { StatusLed::take() }, unsafe { BlueLed::take() });
+    // SAFETY: D6 is the OneWire line and nothing else.
+    let wire = unsafe { OneWire::take() };
+    // SAFETY: D2..D4 are the RC inputs and nothing else.
+    let rc_pins = unsafe { drivers::rc_pins::RcPins::take() };
+    let usart = Usart0::new(dp.USART0);
+    let twi = TwiMaster::new(dp.TWI, relay::BUS_KHZ);
+    let timer1 = FreeRunning::start(dp.TC1);
+    let tick = Tick::start(dp.TC0);
+    let changes = PortDChanges::new(dp.EXINT, RC_PIN_MASK);
     (
         Shared {
-            usart: Usart0::new(dp.USART0),
+            usart,
             rx: RxQueue::new(),
             tx: TxQueue::new(),
             clock: Clock::new(),
+            edges: EdgeQueue::new(),
         },
         Local {
-            parser: Parser::new(),
-            service: Service::new(),
+            // SAFETY (both): init runs once, so these are the only references.
+            blank: unsafe { BLANK.take() },
+            preset: unsafe { PRESET.take() },
             watchdog,
-            status_led,
-            relay: TwiRelay::new(TwiMaster::new(dp.TWI, relay::BUS_KHZ)),
-            _tick: Tick::start(dp.TC0),
+            relay: TwiRelay::new(twi),
+            wire,
+            leds,
+            rc_edges: RcEdges::new(timer1, rc_pins),
+            _tick: tick,
+            _changes: changes,
         },
     )
 }
 
 fn idle(mut cx: idle::Context) -> ! {
-    banner::starting(&mut link::Replies::new(&mut cx.shared.tx));
-    // Hard-reset every slave (REG_RESET = 2): each reboots into its boot exception with
-    // its defaults, as after the original master's boot.
-    for device in 1..=9 {
-        let _ = cx.local.relay.write_register(device, REG_RESET, &[2]);
-        cx.local.watchdog.feed();
-    }
-    cx.local.watchdog.start(Timeout::Ms125);
-    banner::finish(&mut link::Replies::new(&mut cx.shared.tx));
-    cx.local.status_led.set_low();
-
-    let bus = &mut *cx.local.relay;
-    let mut last_byte_ms = 0u32;
-    loop {
-        cx.local.watchdog.feed();
+    let l = cx.local;
+    let (z, p) = (&mut **l.blank, &mut **l.preset);
+    banner::starting(&mut Replies::new(&mut cx.shared.tx));
+    // Boot work, under the 1-s watchdog: the sensors, then the slaves' hard resets
+    // (REG_RESET = 2), after which each reboots into its boot exception with defaults.
+    z.temps.discover(l.wire, l.watchdog);
+    while !p.schedule.booted() {
         let now = cx.shared.clock.lock(|c| c.ms());
-        while let Some(event) = cx.shared.rx.lock(|q| q.pop_front()) {
-            last_byte_ms = now;
-            match event {
-                RxEvent::Byte(b) => {
-                    if let Some(frame) = cx.local.parser.push_frame(b) {
-                        let mut out = link::Replies::new(&mut cx.shared.tx);
-                        cx.local
-                            .service
-                            .execute(frame, bus, &mut |r| out.send(r));
-                    }
-                }
-                RxEvent::Error(e) => {
-                    cx.local.parser.abort();
-                    cx.local.service.link_error(e);
-                }
-            }
-        }
-        if link::frame_stalled(now, last_byte_ms) && cx.local.parser.abort() {
-            cx.local.service.link_error(shared::master::LinkError::Frame(
-                shared::protocol::FrameError::Truncated,
-            ));
-        }
-        cx.sleep.sleep_unless(|| cx.shared.rx.lock(|q| !q.is_empty()));
+        let mut traffic = Traffic {
+            schedule: &mut p.schedule,
+            local: &mut p.service.local,
+            relay: l.relay,
+            watchdog: l.watchdog,
+        };
+        traffic.schedule_step(now, &mut z.temps, l.leds);
     }
+    l.watchdog.start(Timeout::Ms125);
+    banner::finish(&mut Replies::new(&mut cx.shared.tx));
+    l.leds.ready();
+
+    let mut turn = 0u8;
+    loop {
+        l.watchdog.feed();
+        let now = cx.shared.clock.lock(|c| c.ms());
+        while let Some(edge) = cx.shared.edges.lock(|q| q.pop_front()) {
+            z.remote.edge(edge, now);
+        }
+        let rc_up = z.remote.link_up(now);
+
+        let mut busy = z.pc.drain(
+            &mut cx.shared.rx,
+            &mut cx.shared.tx,
+            &mut cx.shared.clock,
+            rc_up,
+            Serve {
+                service: &mut p.service,
+                schedule: &mut p.schedule,
+                relay: l.relay,
+                watchdog: l.watchdog,
+            },
+        );
+
+        // Then one piece of work: the PC link is drained between any two.
+        let now = cx.shared.clock.lock(|c| c.ms());
+        let mut traffic = Traffic {
+            schedule: &mut p.schedule,
+            local: &mut p.service.local,
+            relay: l.relay,
+            watchdog: l.watchdog,
+        };
+        busy |= one_piece_of_work(&mut turn, now, &mut traffic, z, l.wire, l.leds);
+
+        l.leds.note(&p.service.local.exception);
+        l.leds.update(now, rc_up);
+        if !busy {
+            cx.sleep
+                .sleep_unless(|| cx.shared.rx.lock(|q| !q.is_empty()));
+        }
+    }
+}
+
+/// Performs the next piece of work that has something to do, taking turns from the one
+/// after `turn`: the remote control's next write or pass, one OneWire step of a
+/// temperature tick, the schedule's next action. Returns whether there was one.
+fn one_piece_of_work(
+    turn: &mut u8,
+    now: u32,
+    traffic: &mut Traffic<'_>,
+    z: &mut Blank,
+    wire: &mut OneWire,
+    leds: &mut Leds,
+) -> bool {
+    for _ in 0..3 {
+        *turn = (*turn + 1) % 3;
+        let worked = match *turn {
+            0 => match z.remote.next(now) {
+                Some(Work::Setup(w)) => {
+                    traffic.remote_write(&w, now);
+                    true
+                }
+                Some(Work::Pass(pass)) => {
+                    remote::pass_writes(&pass, |w| traffic.remote_write(&w, now));
+                    true
+                }
+                None => false,
+            },
+            1 => {
+                let ticking = z.temps.busy();
+                z.temps.step(wire, &mut traffic.local.temps);
+                ticking
+            }
+            _ => traffic.schedule_step(now, &mut z.temps, leds),
+        };
+        if worked {
+            return true;
+        }
+    }
+    false
 }
 
 fn receive(mut cx: receive::Context) {
     let event = match cx.shared.usart.on_receive() {
         Ok(b) => RxEvent::Byte(b),
-        Err(drivers::usart::RxError::Framing) => RxEvent::Error(shared::master::LinkError::Framing),
-        Err(drivers::usart::RxError::Overrun) => RxEvent::Error(shared::master::LinkError::Overrun),
+        Err(drivers::usart::RxError::Framing) => RxEvent::Framing,
+        Err(drivers::usart::RxError::Overrun) => RxEvent::Overrun,
     };
     if cx.shared.rx.push_back(event).is_err() {
         // Idle is behind by a whole queue: the byte is lost like an overrun, and says so.
         let _ = cx.shared.rx.pop_back();
-        let _ = cx
-            .shared
-            .rx
-            .push_back(RxEvent::Error(shared::master::LinkError::Overrun));
+        let _ = cx.shared.rx.push_back(RxEvent::Overrun);
     }
 }
 
@@ -162,6 +302,10 @@ fn transmit(mut cx: transmit::Context) {
         Some(b) => cx.shared.usart.send(b),
         None => transmit::disarm(),
     }
+}
+
+fn rc_edge(mut cx: rc_edge::Context) {
+    cx.local.rc_edges.on_change(&mut cx.shared.edges);
 }
 
 fn tick(mut cx: tick::Context) {

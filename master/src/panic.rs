@@ -1,14 +1,15 @@
-//! On a panic the master stops everything: interrupts off, the status LED lit, and the
-//! watchdog left to expire. The reboot hard-resets every slave (reference §5), which stops
-//! every motor, and sends the banner, so the PC sees the fault.
+//! On a panic the master stops everything: interrupts off for good (no task runs again),
+//! the status LED lit, and the watchdog, which always runs in this firmware, left to
+//! expire. The reboot hard-resets every slave (reference §5), which stops every motor,
+//! and sends the banner, so the PC sees the fault.
 
 use core::panic::PanicInfo;
 
 #[panic_handler]
 fn panic(_info: &PanicInfo) -> ! {
-    avr_device::interrupt::disable();
-    // SAFETY: interrupts are off and nothing else runs again; D13 may have been taken in
-    // init, but driving it high from here cannot conflict with code that no longer runs.
+    executor::freeze();
+    // SAFETY: interrupts are off and nothing else runs again; D13 was taken in init, but
+    // driving it high from here cannot conflict with code that no longer runs.
     let led = unsafe { drivers::pin::Output::<{ drivers::pin::PORTB }, 5>::take() };
     led.set_high();
     // The watchdog (125 ms, or 1 s during boot) resets the chip.

@@ -1,7 +1,9 @@
-//! The I2C relay to the slaves, as `shared::master::SlaveBus`.
+//! The I2C relay to the slaves, as `shared::master::SlaveBus`, and the same relay as the
+//! PC frames use it: feeding the watchdog before every access and noting how it went.
 
 use drivers::twi::TwiMaster;
-use shared::master::{BusError, SlaveBus};
+use drivers::watchdog::Watchdog;
+use shared::master::{BusError, RegWrite, SlaveBus};
 
 /// Bus clock: the slaves keep up at 400 kHz, four times the original's 100 kHz.
 pub const BUS_KHZ: u16 = 400;
@@ -16,6 +18,25 @@ impl TwiRelay {
     /// Relays through `twi`.
     pub fn new(twi: TwiMaster) -> Self {
         TwiRelay { twi }
+    }
+
+    /// Reads a 2-byte register, LSB first.
+    pub fn read_word(&mut self, device: u8, id: u8) -> Result<u16, BusError> {
+        let mut bytes = [0u8; 2];
+        let mut n = 0usize;
+        self.read_run(device, id, 2, &mut |b| {
+            if let Some(slot) = bytes.get_mut(n) {
+                *slot = b;
+            }
+            n += 1;
+        })?;
+        Ok(u16::from_le_bytes(bytes))
+    }
+
+    /// Performs one register write the master decided on (the schedule's, or the remote
+    /// control's).
+    pub fn write(&mut self, w: &RegWrite) -> Result<(), BusError> {
+        self.write_register(w.device, w.id, w.bytes())
     }
 }
 
@@ -34,6 +55,57 @@ impl SlaveBus for TwiRelay {
         len: u8,
         sink: &mut dyn FnMut(u8),
     ) -> Result<(), BusError> {
-        self.twi.read(device, first, len, sink).map_err(|_| BusError)
+        self.twi
+            .read(device, first, len, sink)
+            .map_err(|_| BusError)
+    }
+}
+
+/// The relay while it serves one PC frame: the watchdog is fed before every access, and
+/// the last access's slave and result are kept, so the frame can be reported to the
+/// schedule as evidence of that slave's liveness (a frame addresses one slave, and its
+/// execution stops at the first access that fails).
+pub struct Watched<'a> {
+    relay: &'a mut TwiRelay,
+    watchdog: &'a Watchdog,
+    last: Option<(u8, bool)>,
+}
+
+impl<'a> Watched<'a> {
+    /// Watches `relay` for one frame.
+    pub fn new(relay: &'a mut TwiRelay, watchdog: &'a Watchdog) -> Self {
+        Watched {
+            relay,
+            watchdog,
+            last: None,
+        }
+    }
+
+    /// The slave the frame accessed and whether every access was answered; `None` if
+    /// the frame made no I2C access.
+    pub fn outcome(&self) -> Option<(u8, bool)> {
+        self.last
+    }
+}
+
+impl SlaveBus for Watched<'_> {
+    fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError> {
+        self.watchdog.feed();
+        let result = self.relay.write_register(device, id, value);
+        self.last = Some((device, result.is_ok()));
+        result
+    }
+
+    fn read_run(
+        &mut self,
+        device: u8,
+        first: u8,
+        len: u8,
+        sink: &mut dyn FnMut(u8),
+    ) -> Result<(), BusError> {
+        self.watchdog.feed();
+        let result = self.relay.read_run(device, first, len, sink);
+        self.last = Some((device, result.is_ok()));
+        result
     }
 }

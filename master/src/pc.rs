@@ -1,0 +1,85 @@
+//! The PC link as idle serves it: bytes from the receive queue into the parser, each
+//! complete frame executed and answered (or swallowed with no reply while the remote
+//! control's link is up, reference §9.2), slave accesses reported to the schedule, and
+//! the inter-byte timeout.
+
+use crate::link::{Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
+use crate::relay::{TwiRelay, Watched};
+use drivers::watchdog::Watchdog;
+use shared::master::{InterByteTimeout, LinkError, Schedule, Service};
+use shared::protocol::{FrameError, Parser};
+
+/// What serving a frame uses besides the link itself.
+pub struct Serve<'a> {
+    /// The frame logic and device 0.
+    pub service: &'a mut Service,
+    /// Told whether the addressed slave answered.
+    pub schedule: &'a mut Schedule,
+    /// The I2C relay.
+    pub relay: &'a mut TwiRelay,
+    /// Fed before every I2C access.
+    pub watchdog: &'a Watchdog,
+}
+
+/// The parser and the inter-byte timeout.
+pub struct PcLink {
+    parser: Parser,
+    timeout: InterByteTimeout,
+}
+
+impl PcLink {
+    /// Between frames.
+    pub const fn new() -> Self {
+        PcLink {
+            parser: Parser::new(),
+            timeout: InterByteTimeout::new(),
+        }
+    }
+
+    /// Takes every event waiting in `rx` and acts on each frame it completes: executed
+    /// and answered through `tx`, or dropped without a reply when `swallow`. Then drops a
+    /// partial frame whose bytes stopped arriving. Returns whether any event was taken.
+    #[inline(never)]
+    pub fn drain(
+        &mut self,
+        rx: &mut impl Lock<RxQueue>,
+        tx: &mut impl Lock<TxQueue>,
+        clock: &mut impl Lock<Clock>,
+        swallow: bool,
+        s: Serve<'_>,
+    ) -> bool {
+        let mut took = false;
+        while let Some(event) = rx.lock(|q| q.pop_front()) {
+            took = true;
+            let now = clock.lock(|c| c.ms());
+            let RxEvent::Byte(b) = event else {
+                self.parser.abort();
+                self.timeout.byte(now, false);
+                if let Some(e) = event.error() {
+                    s.service.link_error(e);
+                }
+                continue;
+            };
+            if let Some(frame) = self.parser.push_frame(b) {
+                if !swallow {
+                    let mut bus = Watched::new(s.relay, s.watchdog);
+                    let mut out = Replies::new(tx);
+                    s.service.execute(frame, &mut bus, &mut |r| out.send(r));
+                    if let Some((device, answered)) = bus.outcome() {
+                        let now = clock.lock(|c| c.ms());
+                        let latch = &mut s.service.local.exception;
+                        s.schedule.observe(device, answered, now, latch);
+                    }
+                }
+            }
+            self.timeout.byte(now, self.parser.in_frame());
+        }
+        let now = clock.lock(|c| c.ms());
+        let waiting = rx.lock(|q| !q.is_empty());
+        if self.timeout.expired(now, waiting) && self.parser.abort() {
+            s.service
+                .link_error(LinkError::Frame(FrameError::Truncated));
+        }
+        took
+    }
+}

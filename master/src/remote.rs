@@ -1,0 +1,146 @@
+//! Remote control (reference §9.2), wired to `shared::master::rc`.
+//!
+//! - The pin-change task ([`RcEdges::on_change`]) only reads the hardware: Timer1's count
+//!   and the levels of D2..D4, queued for idle ([`EdgeQueue`]), so the time stamp is
+//!   taken at the edge and the handler stays short.
+//! - Idle ([`RemoteControl`]) turns the counts into a µs timeline, measures the pulses,
+//!   keeps the link state on its millisecond clock, sends the first link-up's writes once
+//!   per boot (one per idle loop, so the PC link and the schedule are served in
+//!   between), then one pass every [`PASS_PERIOD_MS`] while the link is up: REQSPEED and
+//!   STEER_REQPOS to the six drive/steer boards.
+//!
+//! **Pass rate.** The original ran a pass per main-loop pass, and its loop, carrying
+//! twelve 100-kHz I2C writes, took about 5 ms: the steer integrator (0.03° per pass)
+//! therefore turns at up to about 6°/s. A fixed 5-ms period keeps that rate whatever the
+//! bus speed.
+
+use drivers::rc_pins::RcPins;
+use drivers::timer1::{EdgeClock, FreeRunning};
+use heapless::Deque;
+use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote, DS_CONTROLLERS};
+use shared::master::RegWrite;
+use shared::regs::id;
+
+/// A pass every this many ms while the link is up.
+pub const PASS_PERIOD_MS: u32 = 5;
+
+/// One pin change: Timer1's count (half µs) and the channel levels (bit c = channel c).
+pub type Edge = (u16, u8);
+
+/// Pin changes waiting for idle. A receiver frame makes four changes in 20 ms, and idle
+/// is never away for more than a few ms, so eight is ample.
+pub type EdgeQueue = Deque<Edge, 8>;
+
+/// The pin-change task's own state: the timer and pins it reads.
+pub struct RcEdges {
+    timer: FreeRunning,
+    pins: RcPins,
+}
+
+impl RcEdges {
+    /// Stamps with `timer`, reads `pins`.
+    pub const fn new(timer: FreeRunning, pins: RcPins) -> Self {
+        RcEdges { timer, pins }
+    }
+
+    /// A pin change: its time stamp and the levels, queued for idle (dropped if idle is
+    /// eight changes behind, which costs one pulse's width).
+    #[inline(always)]
+    pub fn on_change(&self, queue: &mut EdgeQueue) {
+        let count = self.timer.count();
+        let levels = self.pins.levels();
+        let _ = queue.push_back((count, levels));
+    }
+}
+
+/// What the remote control asks idle to send now.
+pub enum Work {
+    /// One write of the first link-up (device 0 is the master itself).
+    Setup(RegWrite),
+    /// A pass: its twelve writes go out together (about 1.3 ms at 400 kHz).
+    Pass(Pass),
+}
+
+/// Idle's remote-control state.
+pub struct RemoteControl {
+    clock: EdgeClock,
+    pulses: PulseTimer,
+    remote: Remote,
+    /// The first link-up's writes still to send.
+    setup: Option<LinkUpWrites>,
+    last_pass_ms: u32,
+}
+
+/// The µs clock the link state runs on: idle's millisecond clock, in µs (it wraps at
+/// 2³² µs like a µs counter, so differences stay exact).
+fn micros(now_ms: u32) -> u32 {
+    now_ms.wrapping_mul(1000)
+}
+
+impl RemoteControl {
+    /// At boot: no edge seen.
+    pub const fn new() -> Self {
+        RemoteControl {
+            clock: EdgeClock::new(),
+            pulses: PulseTimer::new(),
+            remote: Remote::new(),
+            setup: None,
+            last_pass_ms: 0,
+        }
+    }
+
+    /// Takes in one pin change, seen by idle at `now_ms`: the pulse that ended, if any,
+    /// and the edge for the link state.
+    #[inline(never)]
+    pub fn edge(&mut self, (count, levels): Edge, now_ms: u32) {
+        let now_us = self.clock.stamp(count);
+        let widths = self.pulses.change(levels, now_us);
+        for (channel, width) in widths.iter().enumerate() {
+            if let Some(w) = *width {
+                self.remote.pulse(channel, w);
+            }
+        }
+        self.remote.edge(micros(now_ms));
+    }
+
+    /// Whether the link is up at `now_ms` (PC frames are then swallowed and the blue
+    /// LED is lit).
+    #[inline(never)]
+    pub fn link_up(&mut self, now_ms: u32) -> bool {
+        self.remote.swallows_frames(micros(now_ms))
+    }
+
+    /// What to send at `now_ms`: the first link-up's writes one at a time, then a pass
+    /// every [`PASS_PERIOD_MS`] while the link is up.
+    #[inline(never)]
+    pub fn next(&mut self, now_ms: u32) -> Option<Work> {
+        let now_us = micros(now_ms);
+        if self.remote.first_link_up(now_us) {
+            self.setup = Some(LinkUpWrites::new());
+        }
+        if let Some(setup) = self.setup.as_mut() {
+            match setup.next() {
+                Some(w) => return Some(Work::Setup(w)),
+                None => self.setup = None,
+            }
+        }
+        if !self.remote.link_up(now_us) || now_ms.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
+            return None;
+        }
+        self.last_pass_ms = now_ms;
+        Some(Work::Pass(self.remote.pass()))
+    }
+}
+
+/// The writes of `pass`, in the order of `Pass::writes`: for wheels 1..6, REQSPEED then
+/// STEER_REQPOS on the wheel's drive/steer board.
+#[inline(never)]
+pub fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
+    let speed = pass.speed_raw();
+    for (i, &device) in DS_CONTROLLERS.iter().enumerate() {
+        send(RegWrite::word(device, id::REGDS_DRIVE_REQSPEED, speed));
+        if let Some(raw) = pass.steer_raw(i + 1) {
+            send(RegWrite::word(device, id::REGDS_STEER_REQPOS, raw));
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! The master's LEDs in the emulator (reference §6.5, with the choices documented in
+//! `master/src/leds.rs`): D13 lights at each ping for 100 ms; D7 flashes the type code
+//! of the last exception the master raised, 512 ms per pulse with 128 ms lit, in a
+//! cycle of 8.192 s.
+
+mod master_support;
+
+use harness::uno;
+use master_support::Rig;
+
+/// Rising edges of a pin trace, with how long each stayed high (µs).
+fn pulses(trace: &[(u64, bool)]) -> Vec<(f64, f64)> {
+    let us = |c: u64| c as f64 / 16.0;
+    trace
+        .windows(2)
+        .filter(|w| w[1].1 && !w[0].1)
+        .map(|w| w[1].0)
+        .map(|rise| {
+            let fall = trace
+                .iter()
+                .find(|(c, high)| *c > rise && !*high)
+                .map_or(f64::NAN, |(c, _)| us(*c));
+            (us(rise), fall - us(rise))
+        })
+        .collect()
+}
+
+#[test]
+fn d13_lights_for_100_ms_at_each_ping() {
+    let mut rig = Rig::new();
+    rig.run_to(4_900_000);
+    rig.avr().trace_pin(uno::D13);
+    rig.run_to(7_300_000);
+    let lit = pulses(&rig.avr().pin_trace(uno::D13));
+    assert_eq!(lit.len(), 3, "{lit:?}");
+    for (i, (at, width)) in lit.iter().enumerate() {
+        let ping = 5_000_000.0 + 1_001_000.0 * i as f64;
+        assert!((at - ping).abs() < 3_000.0, "ping {i} at {at} us");
+        assert!((99_000.0..102_000.0).contains(width), "lit {width} us");
+    }
+}
+
+#[test]
+fn d7_flashes_the_type_code_of_the_raised_exception() {
+    let mut rig = Rig::new();
+    rig.reset_master();
+    // Slave 2 reports a short (type 8) at the first ping.
+    for addr in 1..=9 {
+        rig.slave(addr).in_exception = false;
+    }
+    rig.slave(2).raise(8, 0);
+    rig.run_to(5_500_000);
+    assert_eq!(rig.master_exception(), 0x0208);
+    // A master reset does not stop the flashing. Watch the next whole cycle: cycles
+    // start at multiples of 8.192 s of the master's clock (which starts at load).
+    rig.reset_master();
+    const CYCLE_US: u64 = 8_192_000;
+    let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
+    rig.run_to(start - 1_000);
+    rig.avr().trace_pin(uno::D7);
+    rig.run_to(start + CYCLE_US - 1_000);
+    let lit = pulses(&rig.avr().pin_trace(uno::D7));
+    assert_eq!(lit.len(), 8, "eight pulses per cycle: {lit:?}");
+    for (i, (at, width)) in lit.iter().enumerate() {
+        let expected = start as f64 + 512_000.0 * i as f64;
+        assert!((at - expected).abs() < 2_000.0, "pulse {i} at {at} us");
+        assert!((127_000.0..130_000.0).contains(width), "lit {width} us");
+    }
+}

@@ -1,0 +1,161 @@
+//! Remote control in the emulator (reference §9.2): an RC receiver on D2..D4. The first
+//! link-up resets every board's exception and sends the drive and steer parameters to
+//! the six drive/steer boards; then each pass sends REQSPEED and the Ackermann steer
+//! angles; PC frames get no reply while the link is up, and are answered again once it
+//! has been down for a second.
+
+mod master_support;
+
+use harness::Pin;
+use master_support::{Options, Rig};
+use shared::master::rc::steer::wheel_angles;
+use shared::regs::id;
+
+/// Drive/steer boards of wheels 1..6.
+const DS: [u8; 6] = [1, 2, 4, 5, 7, 8];
+/// The blue LED.
+const BLUE: Pin = harness::uno::D7;
+
+/// map(cdeg / 100) over ±200 (2 bytes), reference §3, in float32.
+fn steer_raw_f32(cdeg: f32) -> u16 {
+    let v = (cdeg / 100.0).clamp(-200.0, 200.0);
+    (((v + 200.0) * 65534.0) / 400.0) as u16
+}
+
+fn last(rig: &Rig, addr: u8, reg: u8) -> u16 {
+    let w = rig.slave(addr).writes_to(reg);
+    let v = w
+        .last()
+        .unwrap_or_else(|| panic!("no write of {reg} to {addr}"));
+    u16::from_le_bytes([v[0], v[1]])
+}
+
+#[test]
+fn full_forward_and_a_held_turn_drive_the_six_boards() {
+    let mut rig = Rig::with(Options {
+        rc: true,
+        ..Options::default()
+    });
+    rig.clear_records();
+    let rc = rig.rc.take().unwrap();
+    rc.set_width(0, 1000); // drive +1: full forward
+    rc.set_width(1, 940); // steer +1: the integrator runs down to −30°
+    rc.set_width(2, 910); // mode −1: normal (not crab)
+    rc.turn_on();
+    rig.run_us(200_000);
+    assert!(rig.avr().pin(BLUE), "blue LED lit while the link is up");
+
+    // First link-up: REG_RESET = 1 to 1..9, the parameters to the DS boards.
+    for addr in 1..=9 {
+        assert_eq!(
+            rig.slave(addr).writes_to(id::REG_RESET),
+            vec![vec![1]],
+            "{addr}"
+        );
+        assert!(
+            !rig.slave(addr).in_exception,
+            "slave {addr} left its boot exception"
+        );
+    }
+    for (wheel, &addr) in DS.iter().enumerate() {
+        let s = rig.slave(addr);
+        assert_eq!(s.writes_to(id::REGDS_DRIVE_PGAIN), vec![vec![0x41, 0x00]]);
+        assert_eq!(s.writes_to(id::REGDS_STEER_IGAIN), vec![vec![0x98, 0x99]]);
+        assert_eq!(s.writes_to(id::REGDS_STEER_DEADZONE), vec![vec![0x05]]);
+        let calib = [
+            (0x43, 0xc4),
+            (0x3d, 0xbd),
+            (0x40, 0xc2),
+            (0x3f, 0xc3),
+            (0x39, 0xbb),
+            (0x3d, 0xbe),
+        ];
+        assert_eq!(
+            s.writes_to(id::REGDS_STEER_CALIBMIN),
+            vec![vec![calib[wheel].0]]
+        );
+        assert_eq!(
+            s.writes_to(id::REGDS_STEER_CALIBMAX),
+            vec![vec![calib[wheel].1]]
+        );
+    }
+    for addr in [3, 6, 9] {
+        assert_eq!(
+            rig.slave(addr).writes.len(),
+            1,
+            "lift {addr}: only the reset"
+        );
+    }
+
+    // 0.03° per 5-ms pass: −30° after 5 s at full turn.
+    rig.run_us(5_300_000);
+    for &addr in &DS {
+        assert_eq!(
+            last(&rig, addr, id::REGDS_DRIVE_REQSPEED),
+            0xa998,
+            "1300 on {addr}"
+        );
+    }
+    let speeds = rig.slave(1).writes_to(id::REGDS_DRIVE_REQSPEED);
+    let off: Vec<_> = speeds.iter().filter(|v| **v != [0x98, 0xa9]).collect();
+    println!(
+        "{} passes, {} off full speed: {off:02x?}",
+        speeds.len(),
+        off.len()
+    );
+    // A pass every 5 ms; an edge stamped late by a OneWire slot (at most ~13 µs) could
+    // move one frame's speed, but hardly any.
+    assert!(
+        (1000..1150).contains(&speeds.len()),
+        "{} passes",
+        speeds.len()
+    );
+    assert!(off.len() * 50 <= speeds.len(), "{} passes off", off.len());
+    // θo = −30°: wheels 1, 2, 5, 6 = −θo, −θi, θo, θi; 3 and 4 straight.
+    let angles = wheel_angles(-3000, false);
+    let theta_i = (26.5f64 / (26.5 * (30f64.to_radians().tan()).recip() + 42.0)).atan();
+    let theta_i = theta_i.to_degrees();
+    assert!(
+        (f64::from(angles[1]) / 100.0 - theta_i).abs() < 0.02,
+        "{angles:?}"
+    );
+    let expect = [
+        3000.0,
+        100.0 * theta_i as f32,
+        0.0,
+        0.0,
+        -3000.0,
+        -100.0 * theta_i as f32,
+    ];
+    for (wheel, &addr) in DS.iter().enumerate() {
+        let got = last(&rig, addr, id::REGDS_STEER_REQPOS);
+        let want = steer_raw_f32(expect[wheel]);
+        assert!(
+            got.abs_diff(want) <= 2,
+            "wheel {}: {got:#06x} vs {want:#06x}",
+            wheel + 1
+        );
+    }
+    assert_eq!(
+        last(&rig, 1, id::REGDS_STEER_REQPOS),
+        0x9332,
+        "wheel 1: +30°"
+    );
+    assert_eq!(
+        last(&rig, 7, id::REGDS_STEER_REQPOS),
+        0x6ccb,
+        "wheel 5: −30°"
+    );
+    assert_eq!(last(&rig, 4, id::REGDS_STEER_REQPOS), 0x7fff, "wheel 3: 0°");
+
+    // The PC is locked out while the link is up.
+    rig.silence(&[0x05, 0x02, 0x01, 0x00, 0x01]);
+    rig.silence(&[0x03, 0x03, 0x00]);
+
+    // Link lost: answered again after 1 s; the link-up cleared the master's exception.
+    rc.turn_off();
+    rig.run_us(1_100_000);
+    assert!(!rig.avr().pin(BLUE), "blue LED off with the link down");
+    assert_eq!(rig.master_exception(), 0x0000);
+    rig.rc = Some(rc);
+}
