@@ -1,33 +1,49 @@
 #!/usr/bin/env bash
-# The main job: set up, build the firmware images and the host tools, start the rover
-# twin (the real master image in the emulator, behind a pseudo-terminal), and drive it
-# with hostctl exactly as a real rover on /dev/ttyACM0 would be driven.
+# The main job, from nothing: set up this machine, build the firmware images and the host
+# tools, start the rover twin (the real master and nine slave images in the emulator, on one
+# I2C bus, with the rover's physics around them, behind a pseudo-terminal), and drive it with
+# `hostctl run examples/demo.rover`: calibrate, reset the exceptions, drive forward at 1000,
+# turn 40, lift a leg, stop, while a live view shows required against actual speeds and
+# positions. Every number on screen is read back from the emulated boards over the serial
+# line. Then it stops the twin and prints the twin's own speed report.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
 scripts/setup.sh
-scripts/firmware.sh >/dev/null
+echo "demo: building the firmware images (scripts/firmware.sh)"
+if ! scripts/firmware.sh >"$work/firmware.log" 2>&1; then
+  cat "$work/firmware.log" >&2
+  exit 1
+fi
+echo "demo: building twin and hostctl"
 cargo build --release -q -p twin -p hostctl
-bin=$root/target/release
+bin=${CARGO_TARGET_DIR:-$root/target}/release
 
-port=$root/target/rover.pty
-"$bin/twin" --link "$port" --stats 5 &
+port=$work/port
+"$bin/twin" --link "$port" --stats 5 >"$work/pty" 2>"$work/twin.log" &
 twin=$!
-trap 'kill $twin 2>/dev/null; wait $twin 2>/dev/null || true' EXIT
-for _ in $(seq 50); do [ -e "$port" ] && break; sleep 0.1; done
-
-run() {
-  printf '\n$ hostctl %s\n' "$*"
-  "$bin/hostctl" --port "$port" --settle-ms 0 "$@"
+stop_twin() {
+  kill "$twin" 2>/dev/null || true
+  wait "$twin" 2>/dev/null || true
 }
+trap 'stop_twin; rm -rf "$work"' EXIT
+for _ in $(seq 200); do [ -e "$port" ] && break; sleep 0.1; done
+if [ ! -e "$port" ]; then
+  echo "demo: the twin did not start:" >&2
+  cat "$work/twin.log" >&2
+  exit 1
+fi
+echo "demo: the twin serves $(head -n1 "$work/pty") (link $port)"
+echo
 
-# Opening the port resets the master, as on the Uno: each hostctl call sees a fresh
-# banner and a master in its boot exception (EXCEPTIONDATA 2) until it is reset.
-run write 0 REGMASTER_RESET 1
-run readset --device 0 5 TEMPAMBIENT EXCEPTIONDATA LASTERROR ERRORCOUNT
-run watch --readset 2 --device 0 --count 3
-# Bad input is refused before anything is sent:
-run write 0 TEMP1 20 || true
-run write 1 DRIVE_REQSPEED 5000 || true
-run read 0 NOSUCHREG || true
+# One connection for the whole drive: opening the port resets the master, as on the Uno.
+"$bin/hostctl" --port "$port" run examples/demo.rover
+
+echo
+stop_twin
+echo "demo: the twin's own report (emulated time against wall-clock time):"
+grep 'speed' "$work/twin.log" | tail -n 2 | sed 's/^/  /'

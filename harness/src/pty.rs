@@ -22,8 +22,8 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use nix::fcntl::{fcntl, FcntlArg, OFlag};
-use nix::sys::inotify::{AddWatchFlags, InitFlags, Inotify};
 use nix::pty::openpty;
+use nix::sys::inotify::{AddWatchFlags, InitFlags, Inotify};
 use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
 
 use crate::{Avr, HarnessError};
@@ -49,6 +49,26 @@ pub struct Pty {
     opened: bool,
     /// Whether a host had the port open when [`Pty::host_event`] last looked.
     was_connected: bool,
+}
+
+/// The chip side of a [`Pty`]: where the host's bytes go and where the firmware's come
+/// from. An [`Avr`] is one (its UART0); the twin, which puts a serial line with faults
+/// between the host and a master chip that lives inside a bus, is another.
+pub trait SerialEnd {
+    /// Queues bytes the host sent, towards the firmware.
+    fn host_sent(&mut self, bytes: &[u8]);
+    /// Takes the bytes the firmware sent since the last call.
+    fn firmware_output(&mut self) -> Vec<u8>;
+}
+
+impl SerialEnd for Avr {
+    fn host_sent(&mut self, bytes: &[u8]) {
+        self.uart_send(bytes);
+    }
+
+    fn firmware_output(&mut self) -> Vec<u8> {
+        self.uart_take()
+    }
 }
 
 /// A change in whether a host program has the port open.
@@ -77,7 +97,9 @@ impl Pty {
         let watch = Inotify::init(InitFlags::IN_NONBLOCK | InitFlags::IN_CLOEXEC)?;
         watch.add_watch(
             &path,
-            AddWatchFlags::IN_OPEN | AddWatchFlags::IN_CLOSE_WRITE | AddWatchFlags::IN_CLOSE_NOWRITE,
+            AddWatchFlags::IN_OPEN
+                | AddWatchFlags::IN_CLOSE_WRITE
+                | AddWatchFlags::IN_CLOSE_NOWRITE,
         )?;
         Ok(Pty {
             controller: File::from(pair.master),
@@ -153,10 +175,16 @@ impl Pty {
     /// for the firmware (delivered at the line rate as it runs), firmware bytes are
     /// written to the host.
     pub fn pump(&mut self, avr: &mut Avr) -> io::Result<()> {
+        self.pump_end(avr)
+    }
+
+    /// [`Pty::pump`] for any [`SerialEnd`], e.g. a twin that models the line between the
+    /// host and the chip (lost bytes) or whose chip sits inside a bus.
+    pub fn pump_end(&mut self, end: &mut dyn SerialEnd) -> io::Result<()> {
         self.poll_watch();
         if !self.host_connected() {
             // Nobody listens: the bytes are lost, as on a closed serial port.
-            avr.uart_take();
+            end.firmware_output();
             self.pending.clear();
             return Ok(());
         }
@@ -164,13 +192,13 @@ impl Pty {
         loop {
             match self.controller.read(&mut buf) {
                 Ok(0) => break,
-                Ok(n) => avr.uart_send(&buf[..n]),
+                Ok(n) => end.host_sent(&buf[..n]),
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
                 Err(e) => return Err(e),
             }
         }
-        self.pending.extend(avr.uart_take());
+        self.pending.extend(end.firmware_output());
         while !self.pending.is_empty() {
             match self.controller.write(&self.pending) {
                 Ok(n) => {

@@ -13,7 +13,9 @@ use crate::cmd;
 #[derive(Debug, Parser)]
 #[command(name = "hostctl", version)]
 pub struct Cli {
-    /// Serial device of the master, or the twin's pty [default: $BLODWEN_PORT].
+    /// Serial device of the master, or a twin's pty [default: $BLODWEN_PORT, else the
+    /// rover twin at $XDG_RUNTIME_DIR/blodwen-twin/port (/tmp/blodwen-twin/port), which
+    /// hostctl joins if it runs and starts otherwise; it exits after 10 minutes unused].
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
 
@@ -51,4 +53,11 @@ pub enum Command {
     /// with --json). Sets 0, 1 and 2 have standard contents when no
     /// registers are named.
     Watch(cmd::watch::Args),
+
+    /// Run a script of rover commands over one connection (opening the port resets the
+    /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
+    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait|watch SECONDS (with a
+    /// live view of required against actual per wheel), say TEXT. The whole script is
+    /// checked before anything is sent.
+    Run(cmd::run::Args),
 }

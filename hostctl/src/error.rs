@@ -129,6 +129,63 @@ pub enum HostError {
         devices: String,
     },
 
+    /// A demand outside the position limits the original library enforces.
+    #[error("wheel {wheel} {motor} {value} is outside its limits {min}..{max} (the calibration less 10°)")]
+    PositionLimit {
+        /// Wheel 1..6.
+        wheel: u8,
+        /// `steer` or `lift`.
+        motor: &'static str,
+        /// The demand given.
+        value: f32,
+        /// Lowest allowed demand.
+        min: f32,
+        /// Highest allowed demand.
+        max: f32,
+    },
+
+    /// The script file could not be read.
+    #[error("cannot read the script {path}: {source}")]
+    ScriptFile {
+        /// The path given.
+        path: String,
+        /// What the operating system said.
+        source: io::Error,
+    },
+
+    /// A script line is wrong; nothing was sent.
+    #[error("{path} line {line} (`{text}`): {why}")]
+    ScriptLine {
+        /// The script's path.
+        path: String,
+        /// Line number, from 1.
+        line: usize,
+        /// The line.
+        text: String,
+        /// What is wrong with it.
+        why: String,
+    },
+
+    /// A script line failed while running; the lines before it were done.
+    #[error("{path} line {line} (`{text}`) failed: {source}")]
+    ScriptStep {
+        /// The script's path.
+        path: String,
+        /// Line number, from 1.
+        line: usize,
+        /// The line.
+        text: String,
+        /// The failure.
+        source: Box<HostError>,
+    },
+
+    /// The twin could not be started or joined.
+    #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH`")]
+    Twin {
+        /// What went wrong.
+        why: String,
+    },
+
     /// Neither `--port` nor `BLODWEN_PORT` says where the rover is.
     #[error("no serial port given: pass --port PATH (e.g. /dev/ttyACM0 or the twin's pty), set BLODWEN_PORT, or start the twin")]
     NoPort,

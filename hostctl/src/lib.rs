@@ -4,7 +4,9 @@
 //! pty) and speaks the PC–master protocol of reference §4 with the frame
 //! codec, register tables and value mapping from `shared`, so it uses the
 //! same definitions as both firmwares. Subcommands write one register, read
-//! one register, configure a read set and watch a read set live.
+//! one register, configure a read set, watch a read set live, and run a script
+//! of the original PC library's calls over one connection ([`cmd::run`]). With
+//! no port given it uses the rover twin, joining or starting it ([`twin`]).
 //!
 //! The flow is the same for every subcommand: the command line is checked
 //! and turned into frames first ([`plan`]), so bad input is refused before
@@ -28,6 +30,7 @@ pub mod suggest;
 pub mod table;
 #[cfg(test)]
 mod tests;
+pub mod twin;
 
 use std::io::Write;
 
@@ -48,6 +51,8 @@ pub enum Plan {
     Readset(cmd::readset::Plan),
     /// See [`cmd::watch`].
     Watch(cmd::watch::Plan),
+    /// See [`cmd::run`].
+    Run(cmd::run::Plan),
 }
 
 /// Checks a command line and builds its frames. Nothing is sent.
@@ -57,6 +62,7 @@ pub fn plan(command: &Command) -> Result<Plan, HostError> {
         Command::Read(a) => Plan::Read(cmd::read::plan(a)?),
         Command::Readset(a) => Plan::Readset(cmd::readset::plan(a)?),
         Command::Watch(a) => Plan::Watch(cmd::watch::plan(a)?),
+        Command::Run(a) => Plan::Run(cmd::run::plan(a)?),
     })
 }
 
@@ -76,10 +82,29 @@ pub fn execute<P: Port>(
     style: Style,
     out: &mut dyn Write,
 ) -> Result<(), HostError> {
+    execute_with_clock(plan, link, style, out, &mut cmd::run::WallClock::new())
+}
+
+/// [`execute`], with `run`'s pauses and live views timed by `clock` (a twin's emulated
+/// time, see [`twin::TwinClock`]).
+pub fn execute_with_clock<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    style: Style,
+    out: &mut dyn Write,
+    clock: &mut dyn cmd::run::Clock,
+) -> Result<(), HostError> {
     let text = match plan {
         Plan::Write(p) => cmd::write::run(p, link, style.json)?,
         Plan::Read(p) => cmd::read::run(p, link, style.json)?,
         Plan::Readset(p) => cmd::readset::run(p, link, style.json)?,
+        Plan::Run(p) => {
+            let mut output = cmd::run::Output {
+                out,
+                in_place: style.in_place && !style.json,
+            };
+            return cmd::run::run(p, link, clock, &mut output);
+        }
         Plan::Watch(p) => {
             let mut screen = Screen::new(style.in_place && !style.json);
             return cmd::watch::run(p, link, &mut |round| {
@@ -118,8 +143,25 @@ pub fn run<P: Port>(
     style: Style,
     out: &mut dyn Write,
 ) -> Result<(), HostError> {
+    run_with(cli, env_port, || Err(HostError::NoPort), open, style, out)
+}
+
+/// [`run`], with `fallback` naming the port when neither `--port` nor `BLODWEN_PORT` does
+/// (the binary joins or starts the twin there, see [`twin`]). It is called only after the
+/// input has been checked.
+pub fn run_with<P: Port>(
+    cli: &Cli,
+    env_port: Option<String>,
+    fallback: impl FnOnce() -> Result<String, HostError>,
+    open: impl FnOnce(&str) -> Result<Link<P>, HostError>,
+    style: Style,
+    out: &mut dyn Write,
+) -> Result<(), HostError> {
     let plan = plan(&cli.command)?;
-    let path = port_path(cli.port.as_deref(), env_port)?;
+    let path = match port_path(cli.port.as_deref(), env_port) {
+        Err(HostError::NoPort) => fallback()?,
+        other => other?,
+    };
     let mut link = open(&path)?;
-    execute(&plan, &mut link, style, out)
+    execute_with_clock(&plan, &mut link, style, out, &mut *twin::clock_for(&path))
 }

@@ -15,10 +15,16 @@ fn main() -> ExitCode {
         in_place: std::io::stdout().is_terminal(),
     };
     let settle = Duration::from_millis(cli.settle_ms);
-    let open = |path: &str| link::open_serial(path, settle);
+    // The settle is waited here, in the twin's emulated time when the port is a twin's.
+    let open = |path: &str| {
+        let link = link::open_serial(path, Duration::ZERO)?;
+        hostctl::twin::clock_for(path).sleep(settle);
+        Ok(link)
+    };
     let env = std::env::var("BLODWEN_PORT").ok();
     let mut stdout = std::io::stdout().lock();
-    match hostctl::run(&cli, env, open, style, &mut stdout) {
+    let twin = || hostctl::twin::join_or_start(&mut |note| eprintln!("{note}"));
+    match hostctl::run_with(&cli, env, twin, open, style, &mut stdout) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -1,36 +1,88 @@
-//! `twin`: runs the rover's real firmware in the emulator behind a pseudo-terminal, so that
-//! `hostctl`, or any program written for the real rover, opens it like the Uno's serial port.
+//! `twin`: the rover twin behind a pseudo-terminal.
 //!
-//! The first line of stdout is the pty path. The emulation is paced to real time (a program
-//! on the other end sees real-time replies and timeouts); the twin reports its spare speed
-//! as a ratio to real time.
+//! `twin [--link PATH] …` builds the emulated rover (the real master and slave images on one
+//! I²C bus, with physics, temperature sensors and an RC receiver), prints the pty path on its
+//! first line, and serves it paced to real time until interrupted (SIGINT, SIGTERM, SIGHUP),
+//! `--seconds` of emulated time have passed, or (with `--idle-exit`) no program has had the
+//! port open for a while; then it removes its link and control socket. Opening the port
+//! resets the master, as the Uno's DTR auto-reset does. Faults are injected at start
+//! (`--fault`) or while it runs (`twin inject CMD…`, over the control socket `<link>.ctl`).
 
-use clap::Parser;
-use harness::{Avr, HostEvent, Pty};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// Command line of the twin.
+use clap::{Parser, Subcommand};
+use harness::Pty;
+use twin::command::Command;
+use twin::control::{self, ControlSocket};
+use twin::serve::{Limits, Server, Stopped};
+use twin::{paths, Config, Rover, TwinError};
+
+/// Run the emulated Blodwen rover behind a serial port (pty), or steer a running one.
 #[derive(Parser, Debug)]
-#[command(version, about = "Run the emulated rover behind a serial port (pty)")]
+#[command(version, args_conflicts_with_subcommands = true)]
 struct Args {
-    /// Keep a symlink to the pty at this path (removed on exit).
-    #[arg(long)]
+    #[command(flatten)]
+    run: RunArgs,
+    #[command(subcommand)]
+    sub: Option<Sub>,
+}
+
+#[derive(clap::Args, Debug)]
+struct RunArgs {
+    /// Keep a symlink to the pty at PATH (removed on exit); the control socket is PATH.ctl.
+    #[arg(long, value_name = "PATH")]
     link: Option<PathBuf>,
-    /// Directory holding master.elf (default: target/firmware of this workspace).
-    #[arg(long)]
+    /// Control socket path [default: LINK.ctl, or one named after this process].
+    #[arg(long, value_name = "PATH")]
+    control: Option<PathBuf>,
+    /// Directory holding master.elf, slave-drive.elf and slave-lift.elf
+    /// [default: target/firmware of this workspace].
+    #[arg(long, value_name = "DIR")]
     firmware_dir: Option<PathBuf>,
-    /// Stop after this many seconds of emulated time (default: run until interrupted).
-    #[arg(long)]
+    /// Stop after this many seconds of emulated time [default: run until interrupted].
+    #[arg(long, value_name = "S")]
     seconds: Option<f64>,
     /// Run as fast as the host allows instead of pacing to real time.
     #[arg(long)]
     unpaced: bool,
-    /// Print the speed ratio to real time on stderr every N seconds (0: never).
-    #[arg(long, default_value_t = 0.0)]
+    /// Print "speed N.NNx real time" on stderr every SECS seconds (0: never).
+    #[arg(long, value_name = "SECS", default_value_t = 0.0)]
     stats: f64,
+    /// Exit after SECS seconds during which no program had the port open (0: never).
+    #[arg(long, value_name = "SECS", default_value_t = 0.0)]
+    idle_exit: f64,
+    /// Turn the RC receiver on at start (it is off unless asked for).
+    #[arg(long)]
+    rc: bool,
+    /// A fault to inject at start, as `twin inject` takes it (e.g. "stall 3 on"); repeatable.
+    #[arg(long, value_name = "CMD")]
+    fault: Vec<String>,
+    /// The bus's lock-step quantum, µs of emulated time.
+    #[arg(long, value_name = "US", default_value_t = twin::DEFAULT_QUANTUM_US)]
+    quantum_us: u64,
+}
+
+#[derive(Subcommand, Debug)]
+enum Sub {
+    /// Send one command to a running twin and print its reply. Commands: stall W
+    /// [drive|steer|lift] on|off, cut N, restore N, spike W drive|steer|lift AMPS MS, sensor I
+    /// remove|restore, temp I CELSIUS, drop-serial N [to-master|to-host], rc on|off, rc CH US,
+    /// status, time.
+    Inject {
+        /// The running twin's pty link [default: the one hostctl uses].
+        #[arg(long, value_name = "PATH")]
+        link: Option<PathBuf>,
+        /// The running twin's control socket [default: LINK.ctl].
+        #[arg(long, value_name = "PATH")]
+        control: Option<PathBuf>,
+        /// The command, e.g. `stall 3 on`.
+        #[arg(required = true, num_args = 1.., allow_hyphen_values = true)]
+        words: Vec<String>,
+    },
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -39,66 +91,166 @@ extern "C" fn on_signal(_: nix::libc::c_int) {
     STOP.store(true, Ordering::SeqCst);
 }
 
-fn main() {
-    if let Err(e) = run(Args::parse()) {
-        eprintln!("twin: {e}");
-        std::process::exit(1);
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let result = match args.sub {
+        Some(Sub::Inject {
+            link,
+            control,
+            words,
+        }) => inject(link, control, &words.join(" ")),
+        None => run(&args.run),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("twin: {e}");
+            ExitCode::FAILURE
+        }
     }
 }
 
-fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
+/// `twin inject`: one command to a running twin.
+fn inject(
+    link: Option<PathBuf>,
+    control: Option<PathBuf>,
+    line: &str,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // Check the command here too, so a typo is reported without a running twin.
+    Command::parse(line)?;
+    let socket =
+        control.unwrap_or_else(|| paths::control_of(&link.unwrap_or_else(paths::default_link)));
+    let reply = control::send(&socket, line)?;
+    println!("{reply}");
+    Ok(if reply.starts_with("error: ") {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn install_signals() -> Result<(), nix::Error> {
     use nix::sys::signal::{signal, SigHandler, Signal};
     for s in [Signal::SIGINT, Signal::SIGTERM, Signal::SIGHUP] {
         // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
         unsafe { signal(s, SigHandler::Handler(on_signal)) }?;
     }
-    let mut master = match &args.firmware_dir {
-        Some(dir) => Avr::load(&dir.join("master.elf"))?,
-        None => Avr::firmware("master")?,
+    Ok(())
+}
+
+fn control_path(args: &RunArgs) -> PathBuf {
+    match (&args.control, &args.link) {
+        (Some(c), _) => c.clone(),
+        (None, Some(link)) => paths::control_of(link),
+        (None, None) => paths::default_dir().join(format!("twin-{}.ctl", std::process::id())),
+    }
+}
+
+/// Makes the link's directory if it is missing.
+fn prepare_link(link: &Path) -> Result<(), TwinError> {
+    match link.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => std::fs::create_dir_all(dir).map_err(|source| TwinError::Io {
+            what: "cannot create the directory of",
+            path: link.to_path_buf(),
+            source,
+        }),
+        None => Ok(()),
+    }
+}
+
+fn seconds(s: f64) -> Option<Duration> {
+    (s > 0.0 && s.is_finite()).then(|| Duration::from_secs_f64(s))
+}
+
+/// `twin`: build the rover and serve it behind the pty.
+fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    install_signals()?;
+    let config = Config {
+        firmware_dir: args.firmware_dir.clone(),
+        quantum_us: args.quantum_us.max(1),
+        ..Config::default()
     };
+    let mut rover = Rover::with_config(&config)?;
+    for line in &args.fault {
+        let report = Command::parse(line)?.apply(&mut rover)?;
+        eprintln!("twin: {report}");
+    }
+    if args.rc {
+        rover.set_rc(true);
+    }
+    // Bind the control socket first: it refuses to start a second twin on the same link.
+    let socket = ControlSocket::bind(&control_path(args))?;
     let mut pty = Pty::open()?;
     if let Some(link) = &args.link {
-        pty.link(link)?;
+        prepare_link(link)?;
+        pty.link(link).map_err(|source| TwinError::Io {
+            what: "cannot make the pty link",
+            path: link.clone(),
+            source,
+        })?;
     }
     println!("{}", pty.path().display());
     std::io::stdout().flush()?;
+    eprintln!(
+        "twin: serving {} ({}control socket {})",
+        pty.path().display(),
+        args.link
+            .as_ref()
+            .map(|l| format!("link {}, ", l.display()))
+            .unwrap_or_default(),
+        socket.path().display()
+    );
 
-    const SLICE_US: u64 = 500;
-    let wall_start = Instant::now();
-    let emu_start = master.micros();
-    let mut busy = Duration::ZERO;
-    let mut last_stats = Instant::now();
-    while !STOP.load(Ordering::SeqCst) {
-        let t0 = Instant::now();
-        if pty.host_event() == Some(HostEvent::Opened) {
-            // The Uno resets when a program opens its port (DTR auto-reset).
-            master.reset();
-            master.uart_take();
-        }
-        pty.pump(&mut master)?;
-        master.run_us(SLICE_US);
-        pty.pump(&mut master)?;
-        busy += t0.elapsed();
-        let emu = Duration::from_micros(master.micros() - emu_start);
-        if let Some(limit) = args.seconds {
-            if emu.as_secs_f64() >= limit {
-                break;
+    let mut server = Server::new(rover, pty, Some(socket), !args.unpaced);
+    let limits = Limits {
+        emulated: args.seconds.and_then(seconds),
+        idle: seconds(args.idle_exit),
+    };
+    let stats = seconds(args.stats);
+    let mut last = std::time::Instant::now();
+    let stopped = server.serve(
+        limits,
+        &|| STOP.load(Ordering::SeqCst),
+        &mut |rover, emulated, wall| {
+            if stats.is_some_and(|every| last.elapsed() >= every) {
+                last = std::time::Instant::now();
+                report_speed(rover, emulated, wall);
             }
-        }
-        if !args.unpaced {
-            let wall = wall_start.elapsed();
-            if emu > wall {
-                std::thread::sleep(emu - wall);
-            }
-        }
-        if args.stats > 0.0 && last_stats.elapsed().as_secs_f64() >= args.stats {
-            last_stats = Instant::now();
-            eprintln!(
-                "twin: {:.1} s emulated, speed {:.2}x real time",
-                emu.as_secs_f64(),
-                emu.as_secs_f64() / busy.as_secs_f64().max(1e-9)
-            );
-        }
+        },
+    )?;
+    if stopped == Stopped::Idle {
+        eprintln!(
+            "twin: no program used the port for {} s; exiting",
+            args.idle_exit
+        );
     }
-    Ok(())
+    if stats.is_some() {
+        eprintln!("twin: final: {}", speed_line(server.rover()));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The speed: emulated time per second of the emulator's own work, and a warning when it
+/// cannot keep up with real time.
+fn speed_line(rover: &Rover) -> String {
+    let speed = rover.speed();
+    let ratio = speed.ratio();
+    let lag = if ratio < 1.0 {
+        "; slower than real time, so host timeouts come early"
+    } else {
+        ""
+    };
+    format!(
+        "speed {ratio:.2}x real time ({:.2}x per second of CPU){lag}",
+        speed.cpu_ratio()
+    )
+}
+
+fn report_speed(rover: &Rover, emulated: Duration, wall: Duration) {
+    eprintln!(
+        "twin: {:.1} s emulated in {:.1} s, {}",
+        emulated.as_secs_f64(),
+        wall.as_secs_f64(),
+        speed_line(rover)
+    );
 }

@@ -1,8 +1,12 @@
 //! The subcommands, one file each, and the two exchanges they share:
 //! configuring a read set and reading one.
 
+pub mod live;
+pub mod pc;
 pub mod read;
 pub mod readset;
+pub mod run;
+pub mod script;
 pub mod watch;
 pub mod write;
 

@@ -117,6 +117,11 @@ fn standard(set: u8) -> Option<Standard> {
     }
 }
 
+/// The ids of standard set `set` (0, 1 or 2), in the original library's order.
+pub(crate) fn standard_ids(set: u8) -> Option<&'static [u8]> {
+    standard(set).map(|s| s.ids)
+}
+
 /// The devices polled when `--device` is not given.
 fn default_devices(set: u8) -> Vec<u8> {
     let kind = match set {

@@ -1,0 +1,331 @@
+//! The live view of `hostctl run`: the original library's read sets 0, 1 and 2, configured
+//! as its init() does and polled as its update() does (reference §4.3), shown as required
+//! against actual per wheel.
+
+use std::time::Duration;
+
+use shared::exception::ExceptionType;
+use shared::mapping;
+use shared::regs::{id, BoardKind};
+
+use super::pc::{device_of, Motor, Pc, WHEELS};
+use super::{configure, set_frame, SetRead};
+use crate::error::HostError;
+use crate::link::Link;
+use crate::port::Port;
+use crate::resolve::{self, Target};
+use crate::table::Table;
+
+/// The read set the library gives each board kind.
+fn set_of(kind: BoardKind) -> u8 {
+    match kind {
+        BoardKind::DriveSteer => 0,
+        BoardKind::LiftLift => 1,
+        BoardKind::Master => 2,
+    }
+}
+
+/// update()'s reads, in its order: controllers 1..9, then the master.
+pub struct Poller {
+    reads: Vec<SetRead>,
+}
+
+/// One update(): each device's registers and raw values.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Snapshot {
+    rows: Vec<(u8, Vec<(u8, u16)>)>,
+}
+
+impl Snapshot {
+    /// A snapshot from (device, [(register id, raw)]) rows.
+    pub fn new(rows: Vec<(u8, Vec<(u8, u16)>)>) -> Snapshot {
+        Snapshot { rows }
+    }
+
+    /// The raw value of register `reg` of `device`, if it was read.
+    pub fn raw(&self, device: u8, reg: u8) -> Option<u16> {
+        let (_, values) = self.rows.iter().find(|(d, _)| *d == device)?;
+        values.iter().find(|(r, _)| *r == reg).map(|&(_, raw)| raw)
+    }
+
+    /// The value of register `reg` of `device` in its units, if it was read.
+    pub fn value(&self, device: u8, reg: u8) -> Option<f32> {
+        let kind = BoardKind::of_device(device)?;
+        let register = kind.register(reg)?;
+        Some(mapping::unmap(self.raw(device, reg)?, register))
+    }
+}
+
+impl Poller {
+    /// The ten reads of update(), with the library's standard sets.
+    pub fn new() -> Result<Poller, HostError> {
+        let mut reads = Vec::new();
+        for device in (1..=9).chain([0]) {
+            let target = Target::of(device).ok_or(HostError::BadDevice {
+                given: device.to_string(),
+            })?;
+            let set = set_of(target.kind);
+            let regs = super::watch::standard_ids(set)
+                .ok_or(HostError::NoStandardSet { set })?
+                .iter()
+                .map(|&reg| resolve::register(target, &reg.to_string()))
+                .collect::<Result<Vec<_>, _>>()?;
+            reads.push(SetRead::new(target, set, regs)?);
+        }
+        Ok(Poller { reads })
+    }
+
+    /// init(): set 0 via controllers 3p+1 and 3p+2, set 1 via 3p+3 for each pair, then set 2
+    /// via the master; each must be answered with its count.
+    pub fn configure<P: Port>(&self, link: &mut Link<P>) -> Result<(), HostError> {
+        for read in &self.reads {
+            let set = set_of(read.target.kind);
+            let frame = set_frame(read.target, set, &read.regs)?;
+            configure(link, read.target, set, &frame, read.regs.len())?;
+        }
+        Ok(())
+    }
+
+    /// update(): reads every set in order.
+    pub fn update<P: Port>(&self, link: &mut Link<P>) -> Result<Snapshot, HostError> {
+        let mut rows = Vec::with_capacity(self.reads.len());
+        for read in &self.reads {
+            let raws = read.run(link)?;
+            rows.push((
+                read.target.device,
+                read.regs.iter().map(|r| r.id).zip(raws).collect(),
+            ));
+        }
+        Ok(Snapshot { rows })
+    }
+}
+
+/// A slave's exception as update() decodes it: the type while STATUS bit 0 is set.
+fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
+    let status = s.raw(device, id::REG_STATUS)?;
+    if status & 1 == 0 {
+        return None;
+    }
+    let data = s.raw(device, id::REG_EXCEPTIONDATA)?;
+    Some(((data & 0xff) as u8, (data >> 8) as u8))
+}
+
+/// Words for an exception type code.
+fn type_name(code: u8) -> String {
+    match ExceptionType::from_code(code) {
+        Some(t) => t.name().to_owned(),
+        None => format!("type {code}"),
+    }
+}
+
+/// The exceptions of one wheel's three motors, routed as the library routes them (DS:
+/// motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
+fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
+    let mut parts: Vec<(Motor, String)> = Vec::new();
+    if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Drive)) {
+        if m != 1 {
+            parts.push((Motor::Drive, type_name(t)));
+        }
+        if m != 0 {
+            parts.push((Motor::Steer, type_name(t)));
+        }
+    }
+    if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Lift)) {
+        let mine = if wheel % 2 == 1 { 0 } else { 1 };
+        if m == mine || m > 1 {
+            parts.push((Motor::Lift, type_name(t)));
+        }
+    }
+    match parts.as_slice() {
+        [] => "-".to_owned(),
+        [(_, a), (_, b), (_, c)] if a == b && b == c => a.clone(),
+        _ => parts
+            .iter()
+            .map(|(m, t)| format!("{} {t}", m.name()))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
+}
+
+fn cell(v: Option<f32>, decimals: usize) -> String {
+    match v {
+        Some(v) => {
+            let text = format!("{v:.decimals$}");
+            // A value that rounds to zero shows as 0, not -0.
+            match text.strip_prefix('-') {
+                Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
+                _ => text,
+            }
+        }
+        None => "?".to_owned(),
+    }
+}
+
+/// The master's exception in words.
+fn master_line(s: &Snapshot) -> String {
+    let data = s.raw(0, id::REGMASTER_EXCEPTIONDATA).unwrap_or(0);
+    let exception = if data == 0 {
+        "no exception".to_owned()
+    } else {
+        let (t, slave, motor) = ((data & 0xff) as u8, (data >> 8) & 0xf, data >> 12);
+        if slave == 0 {
+            format!("exception: {}", type_name(t))
+        } else {
+            format!(
+                "exception: {} on controller {slave} (motor {motor})",
+                type_name(t)
+            )
+        }
+    };
+    let temps: Vec<String> = (id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9)
+        .map(|r| cell(s.value(0, r), 1))
+        .collect();
+    format!(
+        "master: {exception}; °C ambient {}, boards {}",
+        cell(s.value(0, id::REGMASTER_TEMPAMBIENT), 1),
+        temps.join(" ")
+    )
+}
+
+/// The view: one row per wheel, required (the library's last demand) against actual (from
+/// the slaves), then the master's state and the poll rate.
+pub fn view_lines(
+    s: &Snapshot,
+    pc: &Pc,
+    elapsed: Duration,
+    updates: u64,
+    rate: f64,
+) -> Vec<String> {
+    let mut table = Table {
+        rows: Vec::new(),
+        headers: vec![
+            [
+                "wheel",
+                "drive req",
+                "actual",
+                "steer req",
+                "actual",
+                "lift req",
+                "actual",
+            ]
+            .map(String::from)
+            .to_vec(),
+            ["", "ticks/s", "ticks/s", "°", "°", "°", "°"]
+                .map(String::from)
+                .to_vec(),
+        ],
+    };
+    let mut exceptions = vec!["exceptions".to_owned(), String::new()];
+    for wheel in WHEELS {
+        let ds = device_of(wheel, Motor::Drive);
+        let ll = device_of(wheel, Motor::Lift);
+        let lift_reg = if wheel % 2 == 1 {
+            id::REGLL_ONE_ACTUALPOS
+        } else {
+            id::REGLL_TWO_ACTUALPOS
+        };
+        table.rows.push(vec![
+            wheel.to_string(),
+            format!("{:.0}", pc.demand(wheel, Motor::Drive)),
+            cell(s.value(ds, id::REGDS_DRIVE_ACTUALSPEED), 0),
+            format!("{:.1}", pc.demand(wheel, Motor::Steer)),
+            cell(s.value(ds, id::REGDS_STEER_ACTUALPOS), 1),
+            format!("{:.1}", pc.demand(wheel, Motor::Lift)),
+            cell(s.value(ll, lift_reg), 1),
+        ]);
+        exceptions.push(wheel_exceptions(s, wheel));
+    }
+    // The exceptions column is text: left-aligned after the table.
+    let mut lines: Vec<String> = table
+        .lines()
+        .into_iter()
+        .zip(exceptions)
+        .map(|(row, exc)| format!("{row}  {exc}").trim_end().to_owned())
+        .collect();
+    lines.push(master_line(s));
+    lines.push(format!(
+        "{:.1} s: {updates} updates, {rate:.1} update()/s (required = last demand sent; actual = read from the boards)",
+        elapsed.as_secs_f64()
+    ));
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn snapshot() -> Snapshot {
+        let ds = |status: u16, data: u16, speed: u16| {
+            vec![
+                (id::REG_STATUS, status),
+                (id::REG_EXCEPTIONDATA, data),
+                (id::REGDS_DRIVE_ACTUALSPEED, speed),
+                (id::REGDS_STEER_ACTUALPOS, 0x9998),
+            ]
+        };
+        let mut rows: Vec<(u8, Vec<(u8, u16)>)> = vec![
+            (1, ds(0x0008, 0x0502, 0x9ffe)),
+            (2, ds(0x0009, 0x0005, 0x7fff)),
+            (4, ds(0x0009, 0x0502, 0x7fff)),
+            (5, ds(0x0008, 0x0000, 0x7fff)),
+            (7, ds(0x0008, 0x0000, 0x7fff)),
+            (8, ds(0x0008, 0x0000, 0x7fff)),
+        ];
+        for ll in [3, 6, 9] {
+            let status = if ll == 6 { 0x0005 } else { 0x0004 };
+            rows.push((
+                ll,
+                vec![
+                    (id::REG_STATUS, status),
+                    (id::REG_EXCEPTIONDATA, 0x0502),
+                    (id::REGLL_ONE_ACTUALPOS, 0x8ccb),
+                    (id::REGLL_TWO_ACTUALPOS, 0x7fff),
+                ],
+            ));
+        }
+        rows.push((
+            0,
+            vec![
+                (id::REGMASTER_EXCEPTIONDATA, 0x0205),
+                (id::REGMASTER_TEMPAMBIENT, 0x5887),
+            ],
+        ));
+        Snapshot::new(rows)
+    }
+
+    #[test]
+    fn view_shows_required_against_actual() {
+        let mut pc = Pc::new();
+        pc.set_required(1, Motor::Drive, 1000.0).unwrap();
+        pc.set_required(1, Motor::Lift, 20.0).unwrap();
+        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        assert_eq!(
+            lines[0],
+            "wheel  drive req   actual  steer req  actual  lift req  actual  exceptions"
+        );
+        assert_eq!(
+            lines[2],
+            "1           1000     1000        0.0    40.0      20.0    20.0  -"
+        );
+        // Controller 2 in exception with motor 0 (drive); controller 4 with no motor
+        // (drive and steer) and LL 6 with no motor (wheel 3's lift); wheel 4's lift too.
+        assert_eq!(
+            lines[3],
+            "2              0        0        0.0    40.0       0.0     0.0  drive stall"
+        );
+        assert_eq!(
+            lines[4],
+            "3              0        0        0.0    40.0       0.0    20.0  boot"
+        );
+        assert_eq!(
+            lines[5],
+            "4              0        0        0.0    40.0       0.0     0.0  lift boot"
+        );
+        assert_eq!(lines[6].trim_end().chars().last(), Some('-'));
+        assert_eq!(
+            lines[8],
+            "master: exception: stall on controller 2 (motor 0); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
+        );
+        assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
+    }
+}

@@ -1,0 +1,597 @@
+//! The original PC library's view of the rover, as `hostctl run` replays it: each motor's
+//! parameter block and demand, the frames its calls send (sendParams, setRequired,
+//! calibrate, resetExceptions, the operator's emergency stop) and its position limits
+//! (reference §8.2–§8.5, §10.3).
+//!
+//! Everything here builds frames; nothing is sent. The frames are byte-exact with the
+//! reference's (the tests pin them).
+
+use shared::mapping;
+use shared::protocol::{self, Write};
+use shared::regs::{id, BoardKind};
+
+use super::Frame;
+use crate::error::HostError;
+
+/// The rover's wheels.
+pub const WHEELS: std::ops::RangeInclusive<u8> = 1..=6;
+
+/// One of a wheel's motors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motor {
+    /// The drive motor (DS board).
+    Drive,
+    /// The steer motor (DS board).
+    Steer,
+    /// The lift motor (LL board, ONE for odd wheels, TWO for even ones).
+    Lift,
+}
+
+impl Motor {
+    /// The motor's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Motor::Drive => "drive",
+            Motor::Steer => "steer",
+            Motor::Lift => "lift",
+        }
+    }
+
+    fn index(self) -> usize {
+        match self {
+            Motor::Drive => 0,
+            Motor::Steer => 1,
+            Motor::Lift => 2,
+        }
+    }
+}
+
+/// The controller that drives `motor` of `wheel` (1..=6): DS 3p+1/3p+2, LL 3p+3.
+pub fn device_of(wheel: u8, motor: Motor) -> u8 {
+    let pair = (wheel - 1) / 2;
+    match motor {
+        Motor::Drive | Motor::Steer => 3 * pair + if wheel % 2 == 1 { 1 } else { 2 },
+        Motor::Lift => 3 * pair + 3,
+    }
+}
+
+/// Offset of a wheel's lift registers on its LL board: 0 for ONE, 18 for TWO.
+fn lift_offset(wheel: u8) -> u8 {
+    if wheel % 2 == 1 {
+        0
+    } else {
+        id::REGLL_TWO_REQPOS - id::REGLL_ONE_REQPOS
+    }
+}
+
+/// The register that holds `motor`'s demand for `wheel`.
+pub fn demand_register(wheel: u8, motor: Motor) -> u8 {
+    match motor {
+        Motor::Drive => id::REGDS_DRIVE_REQSPEED,
+        Motor::Steer => id::REGDS_STEER_REQPOS,
+        Motor::Lift => id::REGLL_ONE_REQPOS + lift_offset(wheel),
+    }
+}
+
+/// One motor's parameter block, as the library holds it (reference §8.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Block {
+    /// P gain.
+    pub p: f32,
+    /// I gain.
+    pub i: f32,
+    /// D gain.
+    pub d: f32,
+    /// Integral cap.
+    pub cap: f32,
+    /// Integral decay.
+    pub decay: f32,
+    /// Overcurrent threshold.
+    pub overcurrent: f32,
+    /// Stall check level.
+    pub stall: f32,
+    /// Dead zone.
+    pub dead_zone: f32,
+    /// Calibration (min, max), degrees (position motors only).
+    pub calib: (f32, f32),
+}
+
+impl Block {
+    /// The library's default block: all gains 0, overcurrent 10, stall check 255, dead
+    /// zone 1, calibration −100/100.
+    pub const DEFAULT: Block = Block {
+        p: 0.0,
+        i: 0.0,
+        d: 0.0,
+        cap: 0.0,
+        decay: 0.0,
+        overcurrent: 10.0,
+        stall: 255.0,
+        dead_zone: 1.0,
+        calib: (-100.0, 100.0),
+    };
+
+    /// The position limits setRequired enforces: calibMin + 10 ..= calibMax − 10.
+    pub fn limits(&self) -> (f32, f32) {
+        (self.calib.0 + 10.0, self.calib.1 - 10.0)
+    }
+}
+
+/// The library's steer calibration of wheels 1..6, degrees (reference §8.3).
+pub const STEER_CALIBRATION: [(f32, f32); 6] = [
+    (-56.0, 66.0),
+    (-62.0, 59.0),
+    (-59.0, 64.0),
+    (-60.0, 65.0),
+    (-66.0, 57.0),
+    (-62.0, 60.0),
+];
+
+/// The library's lift calibration of wheels 1..6, degrees (reference §8.3).
+pub const LIFT_CALIBRATION: [(f32, f32); 6] = [
+    (-109.0, 109.0),
+    (-102.0, 112.0),
+    (-110.0, 105.0),
+    (-101.0, 110.0),
+    (-113.0, 113.0),
+    (-109.0, 103.0),
+];
+
+/// A frame to send and the reply it must get.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Send {
+    /// The device addressed.
+    pub device: u8,
+    /// The frame.
+    pub frame: Vec<u8>,
+    /// The register written (for messages).
+    pub what: &'static str,
+}
+
+/// One step of a library call: a frame, or a pause.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Op {
+    /// Send a write frame; the master must answer 00.
+    Write(Send),
+    /// Sleep, as the library does between calibration frames.
+    Pause(std::time::Duration),
+}
+
+/// The library's state for all six wheels: blocks and last demands.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pc {
+    blocks: [[Block; 3]; 6],
+    demands: [[f32; 3]; 6],
+}
+
+impl Default for Pc {
+    fn default() -> Self {
+        Pc::new()
+    }
+}
+
+fn write_frame(device: u8, writes: &[Write], what: &'static str) -> Result<Op, HostError> {
+    let mut frame = Frame::new();
+    protocol::encode_write(device, writes, &mut frame)?;
+    Ok(Op::Write(Send {
+        device,
+        frame: frame.to_vec(),
+        what,
+    }))
+}
+
+/// Maps `value` onto register `reg` of `kind`'s table, as the library does after its range
+/// check; out of range is an error naming the register.
+fn raw(kind: BoardKind, device: u8, reg: u8, value: f32) -> Result<Write, HostError> {
+    let register =
+        kind.register(reg)
+            .ok_or(HostError::Encode(protocol::EncodeError::UnknownRegister(
+                reg,
+            )))?;
+    if !mapping::in_range(value, register) {
+        let (min, max) = crate::resolve::allowed(register);
+        return Err(HostError::OutOfRange {
+            value,
+            register: register.name,
+            device,
+            min,
+            max,
+            unit: crate::resolve::unit_suffix(register),
+        });
+    }
+    Ok(Write {
+        id: reg,
+        raw: mapping::map(value, register),
+    })
+}
+
+impl Pc {
+    /// The library after init: default blocks, zero demands.
+    pub fn new() -> Pc {
+        Pc {
+            blocks: [[Block::DEFAULT; 3]; 6],
+            demands: [[0.0; 3]; 6],
+        }
+    }
+
+    /// `motor`'s block for `wheel`.
+    pub fn block(&self, wheel: u8, motor: Motor) -> Block {
+        self.blocks[usize::from(wheel - 1)][motor.index()]
+    }
+
+    fn block_mut(&mut self, wheel: u8, motor: Motor) -> &mut Block {
+        &mut self.blocks[usize::from(wheel - 1)][motor.index()]
+    }
+
+    /// The last demand recorded for `motor` of `wheel`.
+    pub fn demand(&self, wheel: u8, motor: Motor) -> f32 {
+        self.demands[usize::from(wheel - 1)][motor.index()]
+    }
+
+    /// Records a demand written directly (`write DEV REG VALUE` on a demand register).
+    pub fn note_write(&mut self, device: u8, reg: u8, value: f32) {
+        for wheel in WHEELS {
+            for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
+                if device_of(wheel, motor) == device && demand_register(wheel, motor) == reg {
+                    self.demands[usize::from(wheel - 1)][motor.index()] = value;
+                }
+            }
+        }
+    }
+
+    /// sendParams: the whole block of `motor` of `wheel` as one write (reference §8.2).
+    pub fn send_params(&self, wheel: u8, motor: Motor) -> Result<Op, HostError> {
+        let b = self.block(wheel, motor);
+        let device = device_of(wheel, motor);
+        let (kind, regs, values): (BoardKind, Vec<u8>, Vec<f32>) = match motor {
+            Motor::Drive => (
+                BoardKind::DriveSteer,
+                vec![
+                    id::REGDS_DRIVE_PGAIN,
+                    id::REGDS_DRIVE_IGAIN,
+                    id::REGDS_DRIVE_DGAIN,
+                    id::REGDS_DRIVE_INTEGRALCAP,
+                    id::REGDS_DRIVE_INTEGRALDECAY,
+                    id::REGDS_DRIVE_OVERCURRENTTHRESH,
+                    id::REGDS_DRIVE_STALLCHECK,
+                    id::REGDS_DRIVE_DEADZONE,
+                ],
+                vec![
+                    b.p,
+                    b.i,
+                    b.d,
+                    b.cap,
+                    b.decay,
+                    b.overcurrent,
+                    b.stall,
+                    b.dead_zone,
+                ],
+            ),
+            Motor::Steer => (
+                BoardKind::DriveSteer,
+                vec![
+                    id::REGDS_STEER_PGAIN,
+                    id::REGDS_STEER_IGAIN,
+                    id::REGDS_STEER_DGAIN,
+                    id::REGDS_STEER_INTEGRALCAP,
+                    id::REGDS_STEER_INTEGRALDECAY,
+                    id::REGDS_STEER_OVERCURRENTTHRESH,
+                    id::REGDS_STEER_CALIBMIN,
+                    id::REGDS_STEER_CALIBMAX,
+                    id::REGDS_STEER_STALLCHECK,
+                    id::REGDS_STEER_DEADZONE,
+                ],
+                position_values(&b),
+            ),
+            Motor::Lift => {
+                let off = lift_offset(wheel);
+                (
+                    BoardKind::LiftLift,
+                    [
+                        id::REGLL_ONE_PGAIN,
+                        id::REGLL_ONE_IGAIN,
+                        id::REGLL_ONE_DGAIN,
+                        id::REGLL_ONE_INTEGRALCAP,
+                        id::REGLL_ONE_INTEGRALDECAY,
+                        id::REGLL_ONE_OVERCURRENTTHRESH,
+                        id::REGLL_ONE_CALIBMIN,
+                        id::REGLL_ONE_CALIBMAX,
+                        id::REGLL_ONE_STALLCHECK,
+                        id::REGLL_ONE_DEADZONE,
+                    ]
+                    .iter()
+                    .map(|r| r + off)
+                    .collect(),
+                    position_values(&b),
+                )
+            }
+        };
+        let writes = regs
+            .iter()
+            .zip(&values)
+            .map(|(&reg, &v)| raw(kind, device, reg, v))
+            .collect::<Result<Vec<_>, _>>()?;
+        write_frame(device, &writes, "a parameter block")
+    }
+
+    /// setRequired: checks the demand as the library does (drive ±4000; positions within
+    /// the calibration less 10°), records it and builds its write.
+    pub fn set_required(&mut self, wheel: u8, motor: Motor, value: f32) -> Result<Op, HostError> {
+        let device = device_of(wheel, motor);
+        let reg = demand_register(wheel, motor);
+        let kind = if motor == Motor::Lift {
+            BoardKind::LiftLift
+        } else {
+            BoardKind::DriveSteer
+        };
+        if motor != Motor::Drive {
+            let (min, max) = self.block(wheel, motor).limits();
+            if !(min..=max).contains(&value) {
+                return Err(HostError::PositionLimit {
+                    wheel,
+                    motor: motor.name(),
+                    value,
+                    min,
+                    max,
+                });
+            }
+        }
+        let write = raw(kind, device, reg, value)?;
+        self.demands[usize::from(wheel - 1)][motor.index()] = value;
+        write_frame(device, &[write], "a demand")
+    }
+
+    /// Rover::calibrate() (reference §8.3): per wheel, drive parameters, then steer and lift
+    /// each in two sends 50 ms apart.
+    pub fn calibrate(&mut self) -> Result<Vec<Op>, HostError> {
+        let pause = Op::Pause(std::time::Duration::from_millis(50));
+        let mut ops = Vec::new();
+        for wheel in WHEELS {
+            let w = usize::from(wheel - 1);
+            let drive = self.block_mut(wheel, Motor::Drive);
+            (drive.p, drive.i, drive.d) = (0.01, 0.0, 0.0);
+            (drive.cap, drive.decay, drive.overcurrent) = (0.0, 0.0, 500.0);
+            ops.push(self.send_params(wheel, Motor::Drive)?);
+
+            let steer = self.block_mut(wheel, Motor::Steer);
+            steer.calib = STEER_CALIBRATION[w];
+            (steer.cap, steer.decay) = (0.0, 0.0);
+            ops.push(self.send_params(wheel, Motor::Steer)?);
+            ops.push(pause.clone());
+            let steer = self.block_mut(wheel, Motor::Steer);
+            (steer.p, steer.i, steer.d) = (0.0, 2.0, 0.0);
+            (steer.cap, steer.decay, steer.overcurrent) = (300.0, 0.95, 500.0);
+            steer.dead_zone = 0.5;
+            ops.push(self.send_params(wheel, Motor::Steer)?);
+
+            let lift = self.block_mut(wheel, Motor::Lift);
+            lift.calib = LIFT_CALIBRATION[w];
+            (lift.cap, lift.decay) = (0.0, 0.0);
+            ops.push(self.send_params(wheel, Motor::Lift)?);
+            ops.push(pause.clone());
+            let lift = self.block_mut(wheel, Motor::Lift);
+            (lift.p, lift.i, lift.d) = (0.0, 5.0, 0.0);
+            (lift.cap, lift.decay, lift.overcurrent) = (50.0, 0.9, 500.0);
+            ops.push(self.send_params(wheel, Motor::Lift)?);
+        }
+        Ok(ops)
+    }
+
+    /// The operator's emergency stop (reference §10.3): wait 180 ms, then for each wheel and
+    /// each of drive, steer, lift: defaults with overcurrent 200 (calibration −100/100 for
+    /// positions), sendParams, setRequired(0). 36 frames.
+    pub fn emergency_stop(&mut self) -> Result<Vec<Op>, HostError> {
+        let mut ops = vec![Op::Pause(std::time::Duration::from_millis(180))];
+        for wheel in WHEELS {
+            for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
+                *self.block_mut(wheel, motor) = Block {
+                    overcurrent: 200.0,
+                    ..Block::DEFAULT
+                };
+                ops.push(self.send_params(wheel, motor)?);
+                ops.push(self.set_required(wheel, motor, 0.0)?);
+            }
+        }
+        Ok(ops)
+    }
+}
+
+/// A position block's values in sendParams order: P, I, D, cap, decay, overcurrent,
+/// calibration min and max, stall check, dead zone.
+fn position_values(b: &Block) -> Vec<f32> {
+    vec![
+        b.p,
+        b.i,
+        b.d,
+        b.cap,
+        b.decay,
+        b.overcurrent,
+        b.calib.0,
+        b.calib.1,
+        b.stall,
+        b.dead_zone,
+    ]
+}
+
+/// resetExceptions() (reference §8.5): REG_RESET = 1 to controllers 3p+1, 3p+2, 3p+3 of
+/// each pair, then REGMASTER_RESET = 1 to the master.
+pub fn reset_exceptions() -> Result<Vec<Op>, HostError> {
+    let mut ops = Vec::new();
+    for device in [1, 2, 3, 4, 5, 6, 7, 8, 9, 0] {
+        let reg = if device == 0 {
+            id::REGMASTER_RESET
+        } else {
+            id::REG_RESET
+        };
+        ops.push(write_frame(
+            device,
+            &[Write { id: reg, raw: 1 }],
+            "REG_RESET",
+        )?);
+    }
+    Ok(ops)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fake::hex;
+
+    fn frames(ops: &[Op]) -> Vec<String> {
+        ops.iter()
+            .filter_map(|op| match op {
+                Op::Write(s) => Some(hex(&s.frame)),
+                Op::Pause(_) => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn calibrate_sends_the_reference_frames_for_wheel_1() {
+        let mut pc = Pc::new();
+        let ops = pc.calibrate().unwrap();
+        let f = frames(&ops);
+        assert_eq!(f.len(), 30, "five sends per wheel");
+        assert_eq!(
+            f[0],
+            "19 12 08 0a 41 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f ff 7f 18 fe 19 05"
+        );
+        assert_eq!(
+            f[1],
+            "1d 12 0a 1b 00 00 1c 00 00 1d ff 7f 1e 00 00 1f 00 00 20 8f 02 2a 43 2b c4 28 fe 29 05"
+        );
+        assert_eq!(
+            f[2],
+            "1d 12 0a 1b 00 00 1c 32 33 1d ff 7f 1e cc 4c 1f 31 f3 20 ff 7f 2a 43 2b c4 28 fe 29 02"
+        );
+        assert_eq!(
+            f[4],
+            "1d 32 0a 0a 00 00 0b ff 7f 0c ff 7f 0d cc 0c 0e 64 e6 0f ff 7f 17 0b 18 f2 19 fe 1a 05"
+        );
+        // Two 50-ms pauses per wheel.
+        let pauses = ops.iter().filter(|o| matches!(o, Op::Pause(_))).count();
+        assert_eq!(pauses, 12);
+        // Wheel 2's lift is TWO on controller 3 (ids + 18), with its own calibration.
+        assert!(f[9].starts_with("1d 32 0a 1c 00 00"), "{}", f[9]);
+        assert!(f[9].contains(" 29 13 2a f5 "), "{}", f[9]);
+    }
+
+    #[test]
+    fn calibration_bytes_match_the_per_wheel_table() {
+        let mut pc = Pc::new();
+        let f = frames(&pc.calibrate().unwrap());
+        let steer = [
+            "43 2b c4", "3d 2b bd", "40 2b c2", "3f 2b c3", "39 2b bb", "3d 2b be",
+        ];
+        let lift = ["0b", "13", "0a", "14", "07", "0b"];
+        for w in 0..6 {
+            assert!(
+                f[5 * w + 2].contains(steer[w]),
+                "wheel {}: {}",
+                w + 1,
+                f[5 * w + 2]
+            );
+            assert!(
+                f[5 * w + 4].contains(&format!(" {} ", lift[w])),
+                "{}",
+                f[5 * w + 4]
+            );
+        }
+        // The raw steer bytes agree with the master's RC set-up table.
+        for (w, &(lo, hi)) in shared::master::rc::setup::STEER_CALIBRATION
+            .iter()
+            .enumerate()
+        {
+            assert!(f[5 * w + 2].contains(&format!("2a {lo:02x} 2b {hi:02x}")));
+        }
+    }
+
+    #[test]
+    fn emergency_stop_sends_36_frames_starting_with_the_reference_ones() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        let ops = pc.emergency_stop().unwrap();
+        assert_eq!(ops[0], Op::Pause(std::time::Duration::from_millis(180)));
+        let f = frames(&ops);
+        assert_eq!(f.len(), 36);
+        assert_eq!(
+            f[0],
+            "19 12 08 0a 00 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f 32 33 18 fe 19 05"
+        );
+        assert_eq!(f[1], "06 12 01 09 ff 7f");
+        // Steer: calibration -100/100 goes to the slave (0x15 / 0xe8 on ±120).
+        assert!(f[2].contains("2a 15 2b e8"), "{}", f[2]);
+        assert_eq!(f[3], "06 12 01 1a ff 7f");
+        assert_eq!(f[5], "06 32 01 09 ff 7f");
+        assert_eq!(
+            f[35], "06 92 01 1b ff 7f",
+            "wheel 6 lift TWO on controller 9"
+        );
+        assert_eq!(pc.block(3, Motor::Steer).limits(), (-90.0, 90.0));
+    }
+
+    #[test]
+    fn demands_follow_the_library_checks() {
+        let mut pc = Pc::new();
+        let f = |op: Op| match op {
+            Op::Write(s) => hex(&s.frame),
+            Op::Pause(_) => String::new(),
+        };
+        assert_eq!(
+            f(pc.set_required(1, Motor::Drive, 1000.0).unwrap()),
+            "06 12 01 09 fe 9f"
+        );
+        assert_eq!(
+            f(pc.set_required(1, Motor::Steer, 40.0).unwrap()),
+            "06 12 01 1a 98 99"
+        );
+        assert_eq!(
+            f(pc.set_required(2, Motor::Lift, 20.0).unwrap()),
+            "06 32 01 1b cb 8c"
+        );
+        assert_eq!(pc.demand(1, Motor::Drive), 1000.0);
+        // Before calibrate the limits are -90..90; after, calibMax - 10 (wheel 1: 56).
+        assert!(pc.set_required(1, Motor::Steer, 60.0).is_ok());
+        pc.calibrate().unwrap();
+        let err = pc.set_required(1, Motor::Steer, 57.0).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "wheel 1 steer 57 is outside its limits -46..56 (the calibration less 10°)"
+        );
+        assert_eq!(
+            pc.demand(1, Motor::Steer),
+            60.0,
+            "a refused demand is not recorded"
+        );
+        pc.note_write(6, 27, 12.5);
+        assert_eq!(
+            pc.demand(4, Motor::Lift),
+            12.5,
+            "TWO on controller 6 is wheel 4"
+        );
+        assert!(matches!(
+            pc.set_required(1, Motor::Drive, 4000.5),
+            Err(HostError::OutOfRange { .. })
+        ));
+    }
+
+    #[test]
+    fn reset_exceptions_is_the_reference_sequence() {
+        let f = frames(&reset_exceptions().unwrap());
+        assert_eq!(f[0], "05 12 01 00 01");
+        assert_eq!(f[2], "05 32 01 00 01");
+        assert_eq!(f[8], "05 92 01 00 01");
+        assert_eq!(f[9], "05 02 01 00 01");
+        assert_eq!(f.len(), 10);
+    }
+
+    #[test]
+    fn wheels_map_to_controllers() {
+        let d: Vec<u8> = WHEELS.map(|w| device_of(w, Motor::Drive)).collect();
+        assert_eq!(d, [1, 2, 4, 5, 7, 8]);
+        let l: Vec<u8> = WHEELS.map(|w| device_of(w, Motor::Lift)).collect();
+        assert_eq!(l, [3, 3, 6, 6, 9, 9]);
+        assert_eq!(demand_register(4, Motor::Lift), 27);
+        assert_eq!(demand_register(3, Motor::Lift), 9);
+    }
+}

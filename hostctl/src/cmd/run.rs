@@ -1,0 +1,373 @@
+//! `hostctl run FILE`: a script of rover commands over one connection.
+//!
+//! Opening the port resets the master (the Uno's auto-reset, which the twin copies), so a
+//! sequence that must act on one boot of the rover — reset the exceptions, calibrate,
+//! drive — belongs in one session. `run` connects once, configures read sets 0, 1 and 2 as
+//! the original library's init() does, then runs the script line by line (see
+//! [`super::script`] for the language), printing each line as it starts. `wait` and
+//! `watch` poll update() and show the live view: required against actual speed and
+//! position per wheel, redrawn in place on a terminal.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use super::live::{view_lines, Poller, Snapshot};
+use super::pc::{Op, Pc};
+use super::script::{self, Action, Line};
+use crate::error::HostError;
+use crate::link::Link;
+use crate::port::Port;
+use crate::table::Screen;
+
+/// Arguments of `run`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The script, e.g. examples/demo.rover.
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+}
+
+/// A checked script.
+#[derive(Debug)]
+pub struct Plan {
+    /// The script's path, for messages.
+    pub path: String,
+    /// Its lines, checked, with their frames.
+    pub lines: Vec<Line>,
+}
+
+/// Reads and checks the script; nothing is sent.
+pub fn plan(args: &Args) -> Result<Plan, HostError> {
+    let path = args.file.display().to_string();
+    let source = std::fs::read_to_string(&args.file).map_err(|source| HostError::ScriptFile {
+        path: path.clone(),
+        source,
+    })?;
+    let lines = script::parse(&path, &source)?;
+    Ok(Plan { path, lines })
+}
+
+/// Time as the script sees it: the wall clock, or a fake one in tests.
+pub trait Clock {
+    /// Time since the clock started.
+    fn now(&self) -> Duration;
+    /// Lets `d` pass.
+    fn sleep(&mut self, d: Duration);
+}
+
+/// The wall clock.
+pub struct WallClock(Instant);
+
+impl WallClock {
+    /// A clock starting now.
+    pub fn new() -> WallClock {
+        WallClock(Instant::now())
+    }
+}
+
+impl Default for WallClock {
+    fn default() -> Self {
+        WallClock::new()
+    }
+}
+
+impl Clock for WallClock {
+    fn now(&self) -> Duration {
+        self.0.elapsed()
+    }
+
+    fn sleep(&mut self, d: Duration) {
+        std::thread::sleep(d);
+    }
+}
+
+/// Pause between two update() calls while the view is live: the library's operator tick.
+pub const TICK: Duration = Duration::from_millis(10);
+/// How often the in-place view is redrawn.
+pub const REDRAW: Duration = Duration::from_millis(200);
+/// How often `watch` prints a view.
+pub const LOG_EVERY: Duration = Duration::from_secs(1);
+
+/// Where the output goes and how.
+pub struct Output<'a> {
+    /// The stream.
+    pub out: &'a mut dyn Write,
+    /// Redraw the live view in place (a terminal).
+    pub in_place: bool,
+}
+
+/// Runs the script over a connected link.
+pub fn run<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let poller = Poller::new()?;
+    poller.configure(link)?;
+    writeln!(
+        output.out,
+        "{}: {} lines; read sets 0, 1, 2 configured",
+        plan.path,
+        plan.lines.len()
+    )?;
+    for line in &plan.lines {
+        // A `say` line speaks for itself; every other line is echoed as it starts.
+        if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
+            writeln!(output.out, "> {}", line.text)?;
+            output.out.flush()?;
+        }
+        let step = |source| HostError::ScriptStep {
+            path: plan.path.clone(),
+            line: line.number,
+            text: line.text.clone(),
+            source: Box::new(source),
+        };
+        // The view shows the demands as they stand after this line.
+        for action in &line.actions {
+            act(action, link, clock, &poller, &line.pc, output).map_err(step)?;
+        }
+    }
+    Ok(())
+}
+
+fn act<P: Port>(
+    action: &Action,
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    poller: &Poller,
+    pc: &Pc,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    match action {
+        Action::Op(Op::Write(send)) => {
+            let reply = link.transact(send.device, &send.frame, 1)?;
+            let code = reply.first().copied().unwrap_or_default();
+            if code != 0 {
+                return Err(HostError::WriteRefused {
+                    device: send.device,
+                    register: send.what,
+                    code,
+                    words: super::reply_error(code)
+                        .map(|e| e.describe().to_string())
+                        .unwrap_or_else(|| "not a known error code".to_owned()),
+                });
+            }
+        }
+        Action::Op(Op::Pause(d)) => clock.sleep(*d),
+        Action::Say(text) => writeln!(output.out, "{text}")?,
+        Action::Live { time, log } => live(*time, *log, link, clock, poller, pc, output)?,
+    }
+    Ok(())
+}
+
+/// Polls update() for `time`, showing the view: redrawn in place on a terminal; otherwise
+/// once at the end (`wait`) or once a second (`watch`).
+fn live<P: Port>(
+    time: Duration,
+    log: bool,
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    poller: &Poller,
+    pc: &Pc,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let start = clock.now();
+    let mut screen = Screen::new(output.in_place && !log);
+    let mut updates = 0u64;
+    let mut next_draw = start;
+    let period = if log { LOG_EVERY } else { REDRAW };
+    loop {
+        let snapshot: Snapshot = poller.update(link)?;
+        updates += 1;
+        let now = clock.now();
+        let elapsed = now.saturating_sub(start);
+        let done = elapsed >= time;
+        let draw = if log || output.in_place {
+            now >= next_draw || done
+        } else {
+            done
+        };
+        if draw {
+            let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
+            let lines = view_lines(&snapshot, pc, elapsed, updates, rate);
+            let text = if log {
+                let mut t = lines.join("\n");
+                t.push('\n');
+                t
+            } else {
+                screen.frame(&lines)
+            };
+            output.out.write_all(text.as_bytes())?;
+            output.out.flush()?;
+            next_draw = now + period;
+        }
+        if done {
+            return Ok(());
+        }
+        clock.sleep(TICK.min(time - elapsed));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fake::FakePort;
+
+    /// A clock that only moves when slept on.
+    struct FakeClock(Duration, Vec<Duration>);
+
+    impl Clock for FakeClock {
+        fn now(&self) -> Duration {
+            self.0
+        }
+        fn sleep(&mut self, d: Duration) {
+            self.0 += d;
+            self.1.push(d);
+        }
+    }
+
+    fn configure_replies() -> Vec<Vec<u8>> {
+        (1..=9u8)
+            .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
+            .chain([vec![11]])
+            .collect()
+    }
+
+    fn update_replies() -> Vec<Vec<u8>> {
+        (1..=9u8)
+            .map(|d| vec![0u8; if d % 3 == 0 { 36 } else { 40 }])
+            .chain([vec![0u8; 22]])
+            .collect()
+    }
+
+    #[test]
+    fn a_script_runs_in_one_session_with_its_pauses_and_view() {
+        let lines = script::parse("t.rover", "drive 1 1000\ncalibrate\nwait 0.01\n").unwrap();
+        let plan = Plan {
+            path: "t.rover".into(),
+            lines,
+        };
+        let mut replies = configure_replies();
+        replies.push(vec![0]);
+        replies.extend(std::iter::repeat_n(vec![0], 30));
+        replies.extend(update_replies());
+        replies.extend(update_replies());
+        let mut port = FakePort::with_replies(&replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut out = Vec::new();
+        run(
+            &plan,
+            &mut link,
+            &mut clock,
+            &mut Output {
+                out: &mut out,
+                in_place: false,
+            },
+        )
+        .unwrap();
+        let hex = port.frames_hex();
+        assert_eq!(
+            hex[0],
+            "17 14 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27"
+        );
+        assert_eq!(
+            hex[2],
+            "15 34 01 01 02 03 05 10 11 12 13 14 15 16 22 23 24 25 26 27 28"
+        );
+        assert_eq!(hex[9], "0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b");
+        assert_eq!(hex[10], "06 12 01 09 fe 9f");
+        assert_eq!(
+            hex[41], "03 13 00",
+            "update() starts after the 30 calibration frames"
+        );
+        assert_eq!(hex[50], "03 03 02");
+        assert_eq!(hex.len(), 61, "two update() rounds in 10 ms of fake time");
+        let pauses: Vec<Duration> = clock.1.clone();
+        assert_eq!(pauses[..12], [Duration::from_millis(50); 12]);
+        assert_eq!(pauses[12..], [TICK]);
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("t.rover: 3 lines; read sets 0, 1, 2 configured\n> drive 1 1000\n> calibrate\n> wait 0.01\n"));
+        // All-zero replies unmap to the bottom of each range.
+        assert!(
+            text.contains("\n1           1000    -4000        0.0  -200.0       0.0  -200.0  -\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("\n0.0 s: 2 updates, 200.0 update()/s"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn without_a_port_the_twin_is_asked_for_one_after_the_input_is_checked() {
+        use clap::Parser;
+        let style = crate::Style {
+            json: false,
+            in_place: false,
+        };
+        let cli = crate::Cli::try_parse_from(["hostctl", "run", "/nonexistent.rover"]).unwrap();
+        let mut asked = false;
+        let err = crate::run_with(
+            &cli,
+            None,
+            || {
+                asked = true;
+                Ok("/dev/twin".to_owned())
+            },
+            |_: &str| Ok(Link::ready(FakePort::default())),
+            style,
+            &mut Vec::new(),
+        )
+        .unwrap_err();
+        assert!(matches!(err, HostError::ScriptFile { .. }), "{err}");
+        assert!(!asked, "bad input never starts a twin");
+
+        let cli = crate::Cli::try_parse_from(["hostctl", "write", "0", "RESET", "1"]).unwrap();
+        let mut opened = String::new();
+        crate::run_with(
+            &cli,
+            Some(String::new()),
+            || Ok("/dev/twin".to_owned()),
+            |path: &str| {
+                opened = path.to_owned();
+                Ok(Link::ready(FakePort::with_replies(&[[0u8]])))
+            },
+            style,
+            &mut Vec::new(),
+        )
+        .unwrap();
+        assert_eq!(opened, "/dev/twin");
+    }
+
+    #[test]
+    fn a_refused_write_names_the_script_line() {
+        let lines = script::parse("t.rover", "reset\n").unwrap();
+        let plan = Plan {
+            path: "t.rover".into(),
+            lines,
+        };
+        let mut replies = configure_replies();
+        replies.push(vec![0x8c]);
+        let mut port = FakePort::with_replies(&replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut out = Vec::new();
+        let err = run(
+            &plan,
+            &mut link,
+            &mut clock,
+            &mut Output {
+                out: &mut out,
+                in_place: false,
+            },
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().starts_with("t.rover line 1 (`reset`) failed: device 1 refused the write to REG_RESET: code 140"),
+            "{err}"
+        );
+    }
+}

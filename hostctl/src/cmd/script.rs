@@ -1,0 +1,298 @@
+//! The `hostctl run` script language: one command per line, `#` starts a comment.
+//!
+//! | Line | What it does |
+//! |---|---|
+//! | `reset` | resetExceptions(): REG_RESET = 1 to controllers 1..9, then the master (§8.5) |
+//! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses |
+//! | `write DEV REG VALUE` | One register write, as `hostctl write` |
+//! | `drive W\|all SPEED` | Drive speed demand (ticks/s) on wheel W or all six |
+//! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
+//! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
+//! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
+//! | `stop` | The operator's emergency stop (§10.3): 36 frames, every demand 0 |
+//! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
+//! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
+//! | `say TEXT` | Print TEXT |
+//!
+//! The whole script is checked, and its frames built, before anything is sent: a bad line
+//! is reported with its number. Demands are checked as the original library checks them
+//! (drive ±4000; steer and lift within the calibration less 10°, which `calibrate` and
+//! `stop` change), replaying the script's own calibration state.
+
+use std::time::Duration;
+
+use super::pc::{self, Motor, Op, Pc, WHEELS};
+use super::write;
+use crate::error::HostError;
+
+/// What one script line does, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// A frame or a pause of the library.
+    Op(Op),
+    /// Poll and show the live view for a while; `log` prints a view every second instead of
+    /// redrawing one.
+    Live {
+        /// How long.
+        time: Duration,
+        /// Print one view per second.
+        log: bool,
+    },
+    /// Print a line.
+    Say(String),
+}
+
+/// One checked script line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Line {
+    /// Line number in the file, from 1.
+    pub number: usize,
+    /// The line's text, trimmed, without its comment.
+    pub text: String,
+    /// What it does.
+    pub actions: Vec<Action>,
+    /// The library's state after the line (demands, for the live view).
+    pub pc: Pc,
+}
+
+/// The longest `wait` or `watch`: one hour.
+const MAX_SECONDS: f64 = 3600.0;
+
+/// Parses and checks a whole script; the first bad line is the error.
+pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
+    let mut pc = Pc::new();
+    let mut lines = Vec::new();
+    for (i, raw) in source.lines().enumerate() {
+        let text = raw.split('#').next().unwrap_or("").trim();
+        if text.is_empty() {
+            continue;
+        }
+        let actions = line(&mut pc, text).map_err(|why| HostError::ScriptLine {
+            path: path.to_owned(),
+            line: i + 1,
+            text: text.to_owned(),
+            why: why.to_string(),
+        })?;
+        lines.push(Line {
+            number: i + 1,
+            text: text.to_owned(),
+            actions,
+            pc: pc.clone(),
+        });
+    }
+    Ok(lines)
+}
+
+/// Why a line is refused: a usage message or an error of the command it runs.
+#[derive(Debug)]
+enum Why {
+    Usage(&'static str),
+    Number(String),
+    Host(HostError),
+}
+
+impl std::fmt::Display for Why {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Why::Usage(u) => write!(f, "usage: {u}"),
+            Why::Number(n) => write!(f, "`{n}` is not a number"),
+            Why::Host(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl From<HostError> for Why {
+    fn from(e: HostError) -> Self {
+        Why::Host(e)
+    }
+}
+
+const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
+steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS | say TEXT";
+
+fn number(word: &str) -> Result<f32, Why> {
+    word.parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| Why::Number(word.to_owned()))
+}
+
+fn wheels(word: &str, usage: &'static str) -> Result<Vec<u8>, Why> {
+    if word == "all" {
+        return Ok(WHEELS.collect());
+    }
+    match word.parse::<u8>() {
+        Ok(w) if WHEELS.contains(&w) => Ok(vec![w]),
+        _ => Err(Why::Usage(usage)),
+    }
+}
+
+fn seconds(word: &str, usage: &'static str) -> Result<Duration, Why> {
+    let s = f64::from(number(word)?);
+    if !(0.0..=MAX_SECONDS).contains(&s) {
+        return Err(Why::Usage(usage));
+    }
+    Ok(Duration::from_secs_f64(s))
+}
+
+fn ops(list: Vec<Op>) -> Vec<Action> {
+    list.into_iter().map(Action::Op).collect()
+}
+
+/// One line's actions, updating the library state `pc`.
+fn line(pc: &mut Pc, text: &str) -> Result<Vec<Action>, Why> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let set = |pc: &mut Pc, motor, targets: &[u8], value| -> Result<Vec<Action>, Why> {
+        targets
+            .iter()
+            .map(|&w| Ok(Action::Op(pc.set_required(w, motor, value)?)))
+            .collect()
+    };
+    match words.as_slice() {
+        ["reset"] => Ok(ops(pc::reset_exceptions()?)),
+        ["calibrate"] => Ok(ops(pc.calibrate()?)),
+        ["stop"] => Ok(ops(pc.emergency_stop()?)),
+        ["write", dev, reg, value] => {
+            let plan = write::plan(&write::Args {
+                device: (*dev).to_owned(),
+                register: (*reg).to_owned(),
+                value: (*value).to_owned(),
+            })?;
+            pc.note_write(plan.target.device, plan.reg.id, plan.value);
+            Ok(vec![Action::Op(Op::Write(pc::Send {
+                device: plan.target.device,
+                frame: plan.frame.to_vec(),
+                what: plan.reg.name,
+            }))])
+        }
+        ["write", ..] => Err(Why::Usage("write DEV REG VALUE")),
+        ["drive", w, v] => {
+            const U: &str = "drive W|all SPEED   (W = wheel 1..6, SPEED in ticks/s)";
+            set(pc, Motor::Drive, &wheels(w, U)?, number(v)?)
+        }
+        ["steer", w, v] => {
+            const U: &str = "steer W|all DEG   (W = wheel 1..6)";
+            set(pc, Motor::Steer, &wheels(w, U)?, number(v)?)
+        }
+        ["lift", w, v] => {
+            const U: &str = "lift W|all DEG   (W = wheel 1..6)";
+            set(pc, Motor::Lift, &wheels(w, U)?, number(v)?)
+        }
+        ["drive" | "steer" | "lift", ..] => Err(Why::Usage(
+            "drive|steer|lift W|all VALUE   (W = wheel 1..6)",
+        )),
+        ["turn", v] => {
+            let v = number(v)?;
+            let mut out = Vec::new();
+            for (wheel, angle) in [(1, v), (2, v), (5, -v), (6, -v), (3, 0.0), (4, 0.0)] {
+                out.push(Action::Op(pc.set_required(wheel, Motor::Steer, angle)?));
+            }
+            Ok(out)
+        }
+        ["turn", ..] => Err(Why::Usage("turn DEG")),
+        ["wait", s] => Ok(vec![Action::Live {
+            time: seconds(s, "wait SECONDS   (0..3600)")?,
+            log: false,
+        }]),
+        ["watch", s] => Ok(vec![Action::Live {
+            time: seconds(s, "watch SECONDS   (0..3600)")?,
+            log: true,
+        }]),
+        ["wait" | "watch", ..] => Err(Why::Usage("wait|watch SECONDS")),
+        ["say", ..] => Ok(vec![Action::Say(
+            text.strip_prefix("say").unwrap_or("").trim().to_owned(),
+        )]),
+        _ => Err(Why::Usage(COMMANDS)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fake::hex;
+
+    fn frames(lines: &[Line]) -> Vec<String> {
+        lines
+            .iter()
+            .flat_map(|l| &l.actions)
+            .filter_map(|a| match a {
+                Action::Op(Op::Write(s)) => Some(hex(&s.frame)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn refusal(source: &str) -> String {
+        parse("demo.rover", source).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_script_becomes_frames_in_order() {
+        let lines = parse(
+            "s",
+            "# drive a little\nreset\n\ndrive all 1000   # forward\nturn 40\nlift 1 20\nwait 0.5\nsay done\n",
+        )
+        .unwrap();
+        let numbers: Vec<usize> = lines.iter().map(|l| l.number).collect();
+        assert_eq!(numbers, [2, 4, 5, 6, 7, 8]);
+        assert_eq!(lines[1].text, "drive all 1000");
+        let f = frames(&lines);
+        assert_eq!(f.len(), 10 + 6 + 6 + 1);
+        assert_eq!(f[10], "06 12 01 09 fe 9f");
+        assert_eq!(f[15], "06 82 01 09 fe 9f");
+        // turn: 1, 2 +40; 5, 6 -40; 3, 4 0, in that order.
+        assert_eq!(
+            &f[16..22],
+            [
+                "06 12 01 1a 98 99",
+                "06 22 01 1a 98 99",
+                "06 72 01 1a 65 66",
+                "06 82 01 1a 65 66",
+                "06 42 01 1a ff 7f",
+                "06 52 01 1a ff 7f"
+            ]
+        );
+        assert_eq!(f[22], "06 32 01 09 cb 8c");
+        assert_eq!(
+            lines[4].actions,
+            [Action::Live {
+                time: Duration::from_millis(500),
+                log: false
+            }]
+        );
+        assert_eq!(lines[5].actions, [Action::Say("done".into())]);
+        assert_eq!(lines[5].pc.demand(1, Motor::Lift), 20.0);
+        assert_eq!(lines[5].pc.demand(5, Motor::Steer), -40.0);
+    }
+
+    #[test]
+    fn bad_lines_are_reported_with_their_number() {
+        assert_eq!(
+            refusal("reset\nfly 3\n"),
+            format!("demo.rover line 2 (`fly 3`): usage: {COMMANDS}")
+        );
+        assert_eq!(
+            refusal("drive 7 100"),
+            "demo.rover line 1 (`drive 7 100`): usage: drive W|all SPEED   (W = wheel 1..6, SPEED in ticks/s)"
+        );
+        assert_eq!(
+            refusal("drive all fast"),
+            "demo.rover line 1 (`drive all fast`): `fast` is not a number"
+        );
+        assert!(refusal("drive 1 5000").contains("5000 is out of range for REGDS_DRIVE_REQSPEED"));
+        assert!(refusal("write 0 TEMP1 3").contains("read-only"));
+        assert!(refusal("wait -1").contains("usage: wait SECONDS"));
+    }
+
+    #[test]
+    fn limits_follow_the_scripts_own_calibration() {
+        // Uncalibrated: -90..90; calibrated wheel 1 steer: -46..56; after stop: -90..90.
+        assert!(parse("s", "steer 1 60").is_ok());
+        assert_eq!(
+            refusal("calibrate\nsteer 1 60"),
+            "demo.rover line 2 (`steer 1 60`): wheel 1 steer 60 is outside its limits -46..56 (the calibration less 10°)"
+        );
+        assert!(parse("s", "calibrate\nstop\nsteer 1 60").is_ok());
+        assert!(refusal("calibrate\nturn 50").contains("wheel 2 steer 50"));
+    }
+}

@@ -1,0 +1,222 @@
+//! The twin as `hostctl`'s default port: with no `--port` and no `BLODWEN_PORT`, hostctl
+//! joins the twin that serves the well-known link `$XDG_RUNTIME_DIR/blodwen-twin/port`
+//! (`/tmp/blodwen-twin/port` without a runtime directory), or starts one there: the `twin`
+//! program next to hostctl's own executable (or `$BLODWEN_TWIN`), detached, exiting by
+//! itself after [`IDLE_EXIT_S`] seconds in which no program had the port open.
+//!
+//! These paths must agree with the twin's own defaults (`twin::paths`); a test checks it.
+//!
+//! **Settling in emulated time.** After `Ready`, hostctl waits (`--settle-ms`) for the slaves
+//! the master has just hard-reset to reboot. A twin runs in emulated time, which may be
+//! slower than the wall clock on a busy machine; when the port has a twin's control socket
+//! next to it, hostctl measures that wait, and `run`'s pauses and live views, in the twin's
+//! own time ([`TwinClock`]).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::cmd::run::{Clock, WallClock};
+use crate::error::HostError;
+
+/// Directory under the runtime directory that holds the default twin's files.
+pub const DIR_NAME: &str = "blodwen-twin";
+/// File name of the default twin's pty link.
+pub const LINK_NAME: &str = "port";
+/// Suffix that turns a link path into its control socket path.
+pub const CONTROL_SUFFIX: &str = ".ctl";
+/// A twin started by hostctl exits after this many seconds unused.
+pub const IDLE_EXIT_S: u32 = 600;
+/// How long a starting twin may take to put up its link.
+pub const START_TIMEOUT: Duration = Duration::from_secs(20);
+
+/// `$XDG_RUNTIME_DIR/blodwen-twin/port`, or `/tmp/blodwen-twin/port`.
+pub fn default_link() -> PathBuf {
+    std::env::var_os("XDG_RUNTIME_DIR")
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/tmp"))
+        .join(DIR_NAME)
+        .join(LINK_NAME)
+}
+
+/// The control socket of the twin whose link is `link`.
+pub fn control_of(link: &Path) -> PathBuf {
+    let mut s = link.as_os_str().to_owned();
+    s.push(CONTROL_SUFFIX);
+    PathBuf::from(s)
+}
+
+/// Whether a live twin serves `link`: the link leads to a device and the twin's control
+/// socket answers (a twin killed without cleaning up leaves neither alive).
+pub fn is_running(link: &Path) -> bool {
+    std::fs::metadata(link).is_ok()
+        && std::os::unix::net::UnixStream::connect(control_of(link)).is_ok()
+}
+
+/// The emulated time of the twin whose pty is `port` (µs), if a twin answers at its control
+/// socket.
+pub fn emulated_us(port: &Path) -> Option<u64> {
+    use std::io::{Read, Write};
+    let mut stream = std::os::unix::net::UnixStream::connect(control_of(port)).ok()?;
+    stream.set_read_timeout(Some(Duration::from_secs(2))).ok()?;
+    stream.write_all(b"time\n").ok()?;
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply).ok()?;
+    reply.split_whitespace().next()?.parse().ok()
+}
+
+/// Time as a twin counts it: its emulated time, read over its control socket. `hostctl`
+/// waits in it (the settle after the banner, `run`'s pauses and live views) when its port
+/// is a twin's, so a twin slower than real time still sees the waits the script asks for.
+pub struct TwinClock {
+    port: PathBuf,
+    start_us: u64,
+    /// Wall-clock fallback if the twin stops answering.
+    wall: Instant,
+}
+
+impl TwinClock {
+    /// The clock of the twin behind `port`, if a twin answers there.
+    pub fn of(port: &Path) -> Option<TwinClock> {
+        Some(TwinClock {
+            port: port.to_path_buf(),
+            start_us: emulated_us(port)?,
+            wall: Instant::now(),
+        })
+    }
+}
+
+impl Clock for TwinClock {
+    fn now(&self) -> Duration {
+        match emulated_us(&self.port) {
+            Some(us) => Duration::from_micros(us.saturating_sub(self.start_us)),
+            None => self.wall.elapsed(),
+        }
+    }
+
+    fn sleep(&mut self, d: Duration) {
+        let until = self.now() + d;
+        let wall = Instant::now();
+        // Bounded, should the twin stop answering or stall.
+        while wall.elapsed() < d + START_TIMEOUT {
+            let now = self.now();
+            if now >= until {
+                return;
+            }
+            std::thread::sleep((until - now).min(Duration::from_millis(20)));
+        }
+    }
+}
+
+/// The clock `hostctl` waits by on `port`: the twin's if a twin serves it, else the wall's.
+pub fn clock_for(port: &str) -> Box<dyn Clock> {
+    match TwinClock::of(Path::new(port)) {
+        Some(clock) => Box::new(clock),
+        None => Box::new(WallClock::new()),
+    }
+}
+
+/// The `twin` program: `$BLODWEN_TWIN`, else `twin` next to this executable.
+fn twin_program() -> Result<PathBuf, HostError> {
+    if let Some(p) = std::env::var_os("BLODWEN_TWIN").filter(|p| !p.is_empty()) {
+        return Ok(PathBuf::from(p));
+    }
+    let exe = std::env::current_exe().map_err(|e| HostError::Twin {
+        why: format!("cannot find hostctl's own executable ({e})"),
+    })?;
+    let twin = exe.with_file_name("twin");
+    if twin.exists() {
+        Ok(twin)
+    } else {
+        Err(HostError::Twin {
+            why: format!(
+                "there is no `twin` program at {} (build it with `cargo build --release -p twin`, or set BLODWEN_TWIN)",
+                twin.display()
+            ),
+        })
+    }
+}
+
+/// The last lines of the twin's log, for an error message.
+fn log_tail(log: &Path) -> String {
+    let text = std::fs::read_to_string(log).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().collect();
+    lines[lines.len().saturating_sub(3)..].join(" / ")
+}
+
+/// Joins the twin at the default link, or starts one; returns the link path. `note` hears
+/// what was done when a twin is started.
+pub fn join_or_start(note: &mut dyn FnMut(&str)) -> Result<String, HostError> {
+    let link = default_link();
+    let text = link.display().to_string();
+    if is_running(&link) {
+        return Ok(text);
+    }
+    let program = twin_program()?;
+    let dir = link.parent().unwrap_or(Path::new("/tmp"));
+    std::fs::create_dir_all(dir).map_err(|e| HostError::Twin {
+        why: format!("cannot create {} ({e})", dir.display()),
+    })?;
+    let log_path = dir.join("twin.log");
+    let log = std::fs::File::create(&log_path).map_err(|e| HostError::Twin {
+        why: format!("cannot write {} ({e})", log_path.display()),
+    })?;
+    let mut child = {
+        use std::os::unix::process::CommandExt;
+        Command::new(&program)
+            .arg("--link")
+            .arg(&link)
+            .arg("--idle-exit")
+            .arg(IDLE_EXIT_S.to_string())
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(log)
+            // Its own process group: a Ctrl-C meant for hostctl does not stop the twin.
+            .process_group(0)
+            .spawn()
+            .map_err(|e| HostError::Twin {
+                why: format!("cannot run {} ({e})", program.display()),
+            })?
+    };
+    let start = Instant::now();
+    while !is_running(&link) {
+        if let Ok(Some(status)) = child.try_wait() {
+            return Err(HostError::Twin {
+                why: format!("it exited ({status}): {}", log_tail(&log_path)),
+            });
+        }
+        if start.elapsed() > START_TIMEOUT {
+            return Err(HostError::Twin {
+                why: format!(
+                    "no link at {text} after {} s (log: {})",
+                    START_TIMEOUT.as_secs(),
+                    log_path.display()
+                ),
+            });
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    note(&format!(
+        "hostctl: started the rover twin behind {text} (pid {}; it exits after {} min unused; log {})",
+        child.id(),
+        IDLE_EXIT_S / 60,
+        log_path.display()
+    ));
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_control_socket_sits_next_to_the_link() {
+        assert_eq!(
+            control_of(Path::new("/run/user/7/blodwen-twin/port")),
+            PathBuf::from("/run/user/7/blodwen-twin/port.ctl")
+        );
+        assert!(default_link().ends_with("blodwen-twin/port"));
+        assert!(!is_running(Path::new("/nonexistent/blodwen-twin/port")));
+    }
+}

@@ -1,0 +1,220 @@
+//! End to end through the twin's serial line, written as the original PC library behaves
+//! (reference §4.1, §4.3, §4.7, §8.3, §8.5): wait for `Ready`, configure read sets 0, 1, 2,
+//! calibrate, reset exceptions, then drive all wheels at 1000, turn 40 and lift, watching
+//! update() — all in emulated time, with the real master and the nine real slave images
+//! and the physics around them.
+//!
+//!
+//! The second test runs the README's demo drive, `examples/demo.rover`, with hostctl's own
+//! `run` code over the twin in emulated time (calibrate, reset, drive at 1000, turn 40, lift
+//! wheel 1, stop) and checks the live view it prints against what the rover should be
+//! doing, so the demo shows real output of the emulated firmware. (Both tests live in one
+//! file so they run in parallel.)
+//!
+//! NEEDS THE REAL SLAVE IMAGES: with stub slaves nothing answers on the bus and the first
+//! configuration of a read set fails.
+
+mod twin_support;
+
+use std::cell::RefCell;
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::time::Duration;
+
+use hostctl::cmd::pc::{Motor, Op, WHEELS};
+use hostctl::cmd::run::{self, Clock, Output};
+use hostctl::link::Link;
+use twin_support::{
+    drive_speed, lift_pos, master_exception, rover, slave_exception, steer_pos, EmuClock, EmuPort,
+    Session,
+};
+
+#[test]
+fn drive_turn_and_lift_like_the_pc_library() {
+    let mut s = Session::start();
+
+    // After the boot every board is in its boot exception, and the master too.
+    let snap = s.update();
+    assert_eq!(master_exception(&snap), 0x0002, "master boot exception");
+    for n in 1..=9 {
+        assert_eq!(slave_exception(&snap, n), Some(2), "controller {n} in boot");
+    }
+
+    // calibrate(): the §8.3 frames, byte for byte, with their 50-ms pauses.
+    let ops = s.pc.clone().calibrate().unwrap();
+    let first: Vec<Vec<u8>> = ops
+        .iter()
+        .filter_map(|op| match op {
+            Op::Write(w) => Some(w.frame.to_vec()),
+            Op::Pause(_) => None,
+        })
+        .take(2)
+        .collect();
+    assert_eq!(
+        first[0],
+        [
+            0x19, 0x12, 0x08, 0x0a, 0x41, 0x00, 0x0b, 0x00, 0x00, 0x0c, 0xff, 0x7f, 0x0d, 0x00,
+            0x00, 0x0e, 0x00, 0x00, 0x0f, 0xff, 0x7f, 0x18, 0xfe, 0x19, 0x05
+        ]
+    );
+    assert_eq!(&first[1][..5], [0x1d, 0x12, 0x0a, 0x1b, 0x00]);
+    // Calibrated while every board is still in its boot exception, as the original
+    // operator program does at start-up: a position motor in exception holds where it is
+    // (required := actual), so the new calibration moves nothing.
+    s.calibrate();
+
+    // resetExceptions(), then every board is out of exception.
+    s.reset_exceptions();
+    let (ok, snap, took) = s.until(1.0, |s| {
+        master_exception(s) == 0 && (1..=9).all(|n| slave_exception(s, n).is_none())
+    });
+    assert!(ok, "exceptions not cleared after {took:?}: {snap:?}");
+
+    // Drive all six at 1000 ticks/s: every actual speed within 5 % in a few seconds.
+    let all: Vec<(u8, f32)> = WHEELS.map(|w| (w, 1000.0)).collect();
+    s.set(Motor::Drive, &all);
+    let (ok, snap, took) = s.until(5.0, |s| {
+        (1..=6).all(|w| (drive_speed(s, w) - 1000.0).abs() <= 50.0)
+    });
+    let speeds: Vec<f32> = WHEELS.map(|w| drive_speed(&snap, w)).collect();
+    assert!(ok, "speeds {speeds:?} after {took:?}");
+    println!("all six drives within 5 % of 1000 after {took:?}: {speeds:?}");
+    // The wheels really turn at that speed (the physics, not only the firmware's number).
+    for w in WHEELS {
+        let physical = s.twin.borrow().wheel(w).unwrap().drive_ticks_per_s;
+        assert!(
+            (physical - 1000.0).abs() < 60.0,
+            "wheel {w} turns at {physical}"
+        );
+    }
+
+    // Turn 40 (the operator's `t`): wheels 1, 2 at +40, 5, 6 at -40, 3, 4 at 0.
+    let turn = [
+        (1, 40.0),
+        (2, 40.0),
+        (5, -40.0),
+        (6, -40.0),
+        (3, 0.0),
+        (4, 0.0),
+    ];
+    s.set(Motor::Steer, &turn);
+    let settled = |s: &hostctl::cmd::live::Snapshot| {
+        turn.iter()
+            .all(|&(w, want)| (steer_pos(s, w) - want).abs() <= 2.0)
+    };
+    let (ok, snap, took) = s.until(6.0, settled);
+    let steer: Vec<f32> = WHEELS.map(|w| steer_pos(&snap, w)).collect();
+    assert!(ok, "steer {steer:?} after {took:?}");
+    // Settled means it stays there.
+    s.pass(1.0);
+    let snap = s.update();
+    let later: Vec<f32> = WHEELS.map(|w| steer_pos(&snap, w)).collect();
+    assert!(settled(&snap), "steer drifted to {later:?}");
+    println!("steer settled after {took:?}: {later:?}");
+
+    // Lift wheel 1 to +20 and wheel 4 to -20, within their limits (the library refuses
+    // demands beyond the calibration less 10°, before sending anything).
+    assert!(s.pc.clone().set_required(1, Motor::Lift, 100.0).is_err());
+    s.set(Motor::Lift, &[(1, 20.0), (4, -20.0)]);
+    let (ok, snap, took) = s.until(6.0, |s| {
+        (lift_pos(s, 1) - 20.0).abs() <= 2.0 && (lift_pos(s, 4) + 20.0).abs() <= 2.0
+    });
+    let lifts: Vec<f32> = WHEELS.map(|w| lift_pos(&snap, w)).collect();
+    assert!(ok, "lift {lifts:?} after {took:?}");
+    for w in [2u8, 3, 5, 6] {
+        let lift = lifts[usize::from(w - 1)];
+        assert!(
+            lift.abs() < 2.0,
+            "wheel {w}'s lift moved to {lift}: {lifts:?}"
+        );
+    }
+    println!("lifts settled after {took:?}: {lifts:?}");
+
+    // Nothing went wrong on the way: no exception anywhere, and the speeds held.
+    assert_eq!(master_exception(&snap), 0, "{snap:?}");
+    let speeds: Vec<f32> = WHEELS.map(|w| drive_speed(&snap, w)).collect();
+    assert!(
+        speeds.iter().all(|v| (v - 1000.0).abs() <= 50.0),
+        "{speeds:?}"
+    );
+
+    // The library's full update() rate, in emulated time.
+    let start = s.clock_now();
+    for _ in 0..20 {
+        s.update();
+    }
+    let per_s = 20.0 / (s.clock_now() - start).as_secs_f64();
+    println!("full update() rate: {per_s:.1}/s of emulated time");
+    assert!(per_s >= 25.0, "update() {per_s:.1}/s");
+}
+
+/// The numbers of the view's row for `wheel` in the first view printed after `marker`.
+fn row_after(text: &str, marker: &str, wheel: u8) -> Vec<f64> {
+    let start = text
+        .find(marker)
+        .unwrap_or_else(|| panic!("no {marker:?} in {text}"));
+    let line = text[start..]
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some(&wheel.to_string()))
+        .unwrap_or_else(|| panic!("no row for wheel {wheel} after {marker:?}"));
+    line.split_whitespace()
+        .skip(1)
+        .take(6)
+        .map(|w| w.parse().unwrap_or(f64::NAN))
+        .collect()
+}
+
+#[test]
+fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/demo.rover");
+    let plan = run::plan(&run::Args { file }).unwrap();
+    let twin = Rc::new(RefCell::new(rover()));
+    let port = EmuPort::new(Rc::clone(&twin));
+    let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
+    let mut clock = EmuClock::new(Rc::clone(&twin));
+    clock.sleep(hostctl::link::SETTLE);
+    let mut out = Vec::new();
+    let result = run::run(
+        &plan,
+        &mut link,
+        &mut clock,
+        &mut Output {
+            out: &mut out,
+            in_place: false,
+        },
+    );
+    let text = String::from_utf8(out).unwrap();
+    println!("{text}");
+    result.unwrap();
+    println!(
+        "demo: {:.1} s of emulated time, twin speed {:.2}x real time",
+        clock.now().as_secs_f64(),
+        twin.borrow().speed().ratio()
+    );
+
+    // [drive req, actual, steer req, actual, lift req, actual]
+    for w in 1..=6 {
+        let r = row_after(&text, "> drive all 1000", w);
+        assert_eq!(r[0], 1000.0);
+        assert!(
+            (r[1] - 1000.0).abs() <= 50.0,
+            "wheel {w} after driving: {r:?}"
+        );
+    }
+    let turn = [40.0, 40.0, 0.0, 0.0, -40.0, -40.0];
+    for w in 1..=6u8 {
+        let r = row_after(&text, "> turn 40", w);
+        let want = turn[usize::from(w - 1)];
+        assert_eq!(r[2], want);
+        assert!((r[3] - want).abs() <= 2.0, "wheel {w} after turning: {r:?}");
+    }
+    let r = row_after(&text, "> lift 1 20", 1);
+    assert!((r[5] - 20.0).abs() <= 2.0, "wheel 1 lift: {r:?}");
+    // After the stop every demand is 0 and nothing raised an exception.
+    let tail = &text[text.rfind("> watch 3").unwrap()..];
+    for w in 1..=6 {
+        let r = row_after(tail, "wheel", w);
+        assert_eq!([r[0], r[2], r[4]], [0.0, 0.0, 0.0], "wheel {w}: {r:?}");
+    }
+    assert!(tail.contains("master: no exception"), "{tail}");
+}

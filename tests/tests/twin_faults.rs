@@ -1,0 +1,181 @@
+//! Fault injection through the twin, seen as a PC program sees it: a stalled wheel raises its
+//! fault on the master and every motor stops; a slave cut off the bus is detected within the
+//! master's bound; a current spike raises a short; an unplugged temperature sensor raises
+//! type 10; the RC receiver takes over the drives.
+//!
+//! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
+//! with stub slaves nothing answers on the bus and the first configuration of a read set
+//! fails.
+
+mod twin_support;
+
+use std::time::Duration;
+
+use hostctl::cmd::pc::{Motor, WHEELS};
+use shared::regs::id;
+use twin::wiring::Axis;
+use twin_support::{drive_speed, master_exception, rover, slave_exception, Session};
+
+/// A session calibrated, with exceptions reset, all six drives asked for 1000 ticks/s and
+/// turning at more than half of it.
+fn driving() -> Session {
+    let mut s = Session::start();
+    s.calibrate();
+    s.reset_exceptions();
+    let all: Vec<(u8, f32)> = WHEELS.map(|w| (w, 1000.0)).collect();
+    s.set(Motor::Drive, &all);
+    let (ok, snap, took) = s.until(5.0, |s| (1..=6).all(|w| drive_speed(s, w) > 500.0));
+    assert!(ok, "not moving after {took:?}: {snap:?}");
+    s
+}
+
+/// Every wheel's physical drive speed, ticks/s.
+fn physical_speeds(s: &Session) -> Vec<f64> {
+    let twin = s.twin.borrow();
+    WHEELS
+        .map(|w| twin.wheel(w).unwrap().drive_ticks_per_s)
+        .collect()
+}
+
+/// The master's exception as (type, slave, motor).
+fn split(data: u16) -> (u16, u16, u16) {
+    (data & 0xff, (data >> 8) & 0xf, data >> 12)
+}
+
+#[test]
+fn a_stalled_wheel_raises_its_fault_on_the_master_and_every_motor_stops() {
+    let mut s = driving();
+    // Let the slaves check stalls (the library's calibrate leaves STALLCHECK at 255, off).
+    for w in WHEELS {
+        let d = hostctl::cmd::pc::device_of(w, Motor::Drive);
+        s.write_raw(&[0x05, (d << 4) | 2, 0x01, id::REGDS_DRIVE_STALLCHECK, 0x96]);
+    }
+    s.twin.borrow_mut().stall(3, Axis::Drive, true).unwrap();
+    let (ok, snap, took) = s.until(6.0, |s| master_exception(s) != 0);
+    assert!(ok, "no fault on the master after {took:?}");
+    // Wheel 3's drive is controller 4, motor 0: STALL (5), or OVERCURRENT (1) if the duty
+    // reached the top first.
+    let (kind, slave, motor) = split(master_exception(&snap));
+    assert!(kind == 5 || kind == 1, "type {kind}");
+    assert_eq!((slave, motor), (4, 0));
+    println!("stall on wheel 3 reached the master after {took:?} (type {kind})");
+    // Spread: every other slave is in REMOTESLAVE, so every motor is stopped.
+    let (ok, snap, _) = s.until(0.5, |s| {
+        (1..=9u8)
+            .filter(|&n| n != 4)
+            .all(|n| slave_exception(s, n) == Some(3))
+    });
+    assert!(ok, "not spread: {snap:?}");
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
+}
+
+#[test]
+fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
+    let mut s = driving();
+    // The master watches the slaves from 5 s after its boot on (reference §5).
+    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
+    if boot_settle > 0.0 {
+        s.pass(boot_settle);
+    }
+    // Read only the master's set 2 (22 bytes, ~2 ms): controller 5 no longer answers,
+    // so a full update() would time out on it.
+    let set2 = [0x03, 0x03, 0x02];
+    let cut_at = s.clock_now();
+    s.twin.borrow_mut().cut(5).unwrap();
+    let mut seen = None;
+    while s.clock_now() - cut_at < Duration::from_millis(500) {
+        let reply = s.link.transact(0, &set2, 22).unwrap();
+        let data = u16::from_le_bytes([reply[20], reply[21]]);
+        if data != 0 {
+            seen = Some((data, s.clock_now() - cut_at));
+            break;
+        }
+    }
+    let (data, took) = seen.expect("the master never noticed controller 5");
+    assert_eq!(split(data), (11, 5, 0), "SlaveSilent on controller 5");
+    println!("controller 5 cut off: on the master after {took:?}");
+    assert!(
+        took <= Duration::from_millis(100),
+        "detected after {took:?}"
+    );
+    // Every other slave is told, and their wheels coast to a stop. Controller 5 cannot
+    // hear it: cut off, its wheel (4) keeps its last demand, as the original's slaves do
+    // (they have no bus-silence failsafe, reference §4.6).
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    for (i, v) in speeds.iter().enumerate() {
+        if i == 3 {
+            assert!(
+                (v - 1000.0).abs() < 60.0,
+                "wheel 4 (controller 5): {speeds:?}"
+            );
+        } else {
+            assert!(v.abs() < 50.0, "still turning: {speeds:?}");
+        }
+    }
+    // Back on the bus, it answers again.
+    s.twin.borrow_mut().restore(5).unwrap();
+    s.pass(0.1);
+    let snap = s.update();
+    assert!(snap.raw(5, id::REG_STATUS).is_some());
+}
+
+#[test]
+fn a_current_spike_raises_a_short_and_stops_the_rover() {
+    let mut s = driving();
+    s.twin
+        .borrow_mut()
+        .spike(2, Axis::Drive, 8.0, 30.0)
+        .unwrap();
+    let (ok, snap, took) = s.until(3.0, |s| master_exception(s) != 0);
+    assert!(ok, "no fault on the master after {took:?}");
+    // Wheel 2's drive is controller 2, motor 0; at a duty below 250 the overcurrent rule
+    // calls it SHORTOC (8).
+    assert_eq!(split(master_exception(&snap)), (8, 2, 0));
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
+}
+
+#[test]
+fn an_unplugged_temperature_sensor_raises_type_10() {
+    let mut r = rover();
+    // Sensor 2 (controller 2's): the master reads its sensors in turn, one per 2-s tick
+    // from 5 s after boot, and notices a missing one when its turn comes.
+    r.set_sensor_present(2, false).unwrap();
+    let mut s = Session::on(r);
+    s.reset_exceptions();
+    let (ok, snap, took) = s.until(20.0, |s| master_exception(s) != 0);
+    assert!(ok, "no exception after {took:?}");
+    assert_eq!(master_exception(&snap), 0x000a, "{snap:?}");
+    println!("sensor 2 missing: type 10 on the master {took:?} after the reset");
+}
+
+#[test]
+fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
+    let mut r = rover();
+    // Channel 0 at 1000 µs is full forward (drive 1300); 1339 µs centres the steering;
+    // 910 µs is normal (not crab) mode.
+    r.set_rc_width(0, 1000).unwrap();
+    r.set_rc_width(1, 1339).unwrap();
+    r.set_rc_width(2, 910).unwrap();
+    let mut s = Session::on(r);
+    s.reset_exceptions();
+    s.twin.borrow_mut().set_rc(true);
+    s.pass(4.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| (v - 1300.0).abs() < 80.0),
+        "RC drive: {speeds:?}"
+    );
+    // While the link is up, PC frames are swallowed with no reply.
+    assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 22).is_err());
+}

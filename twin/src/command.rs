@@ -1,0 +1,403 @@
+//! The twin's fault-injection and status commands, as text: what the control socket accepts,
+//! what `twin inject` sends and what `twin --fault` applies at start.
+//!
+//! | Command | Effect |
+//! |---|---|
+//! | `stall W [drive\|steer\|lift] on\|off` | Hold wheel W's motor still (drive if not named), or let it go |
+//! | `cut N` / `restore N` | Take controller N off the I²C bus / put it back |
+//! | `spike W drive\|steer\|lift AMPS MS` | Add AMPS to that motor's sensed current for MS ms |
+//! | `sensor I remove\|restore` | Unplug temperature sensor I (0 ambient, 1..9) / plug it back |
+//! | `temp I CELSIUS` | Set what sensor I measures (0.5 °C steps) |
+//! | `drop-serial N [to-master\|to-host]` | Lose the next N bytes on the serial line (to the master if not named) |
+//! | `rc on\|off` | Start / stop the RC receiver's pulses |
+//! | `rc CH US` | Set RC channel CH's pulse width (µs) |
+//! | `status` | Emulated time, speed, faults and every wheel's physical state |
+//! | `time` | Emulated time since power-up, µs (`hostctl` waits in it for the slaves to boot) |
+
+use crate::serial::Direction;
+use crate::wiring::{Axis, WHEELS};
+use crate::{Rover, TwinError};
+
+/// One command to the twin.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Stall or free one motor.
+    Stall {
+        /// Wheel 1..=6.
+        wheel: u8,
+        /// Which of its motors.
+        axis: Axis,
+        /// Stall (true) or free (false).
+        on: bool,
+    },
+    /// Take a controller off the bus.
+    Cut(u8),
+    /// Put a controller back on the bus.
+    Restore(u8),
+    /// A current spike on one motor's sense.
+    Spike {
+        /// Wheel 1..=6.
+        wheel: u8,
+        /// Which of its motors.
+        axis: Axis,
+        /// Extra current, A.
+        amps: f64,
+        /// How long, ms of emulated time.
+        ms: f64,
+    },
+    /// Unplug or plug back a temperature sensor.
+    Sensor {
+        /// 0 ambient, 1..=9 controller n's sensor.
+        index: u8,
+        /// Plugged in (true) or not.
+        present: bool,
+    },
+    /// Set what a temperature sensor measures.
+    Temp {
+        /// 0 ambient, 1..=9 controller n's sensor.
+        index: u8,
+        /// Temperature, 0.5 °C units.
+        half_degrees: i16,
+    },
+    /// Lose bytes on the serial line.
+    DropSerial {
+        /// How many bytes.
+        n: u64,
+        /// Which way.
+        direction: Direction,
+    },
+    /// Turn the RC receiver on or off.
+    Rc(bool),
+    /// Set one RC channel's width.
+    RcWidth {
+        /// Channel 0..=2.
+        channel: u8,
+        /// Pulse width, µs.
+        us: u16,
+    },
+    /// Report the twin's state.
+    Status,
+    /// Report the emulated time.
+    Time,
+}
+
+/// Why a command line was not understood.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CommandError {
+    /// Nothing was given.
+    #[error("no command given; {help}", help = HELP)]
+    Empty,
+    /// The first word is no command.
+    #[error("unknown command `{0}`; {help}", help = HELP)]
+    Unknown(String),
+    /// The words after the command do not fit it.
+    #[error("usage: {0}")]
+    Usage(&'static str),
+    /// A number was expected.
+    #[error("`{given}` is not {what}")]
+    BadNumber {
+        /// What the number stands for.
+        what: &'static str,
+        /// The text given.
+        given: String,
+    },
+}
+
+/// The list of commands, for error messages.
+pub const HELP: &str = "commands: stall W [drive|steer|lift] on|off, cut N, restore N, \
+spike W drive|steer|lift AMPS MS, sensor I remove|restore, temp I CELSIUS, \
+drop-serial N [to-master|to-host], rc on|off, rc CH US, status, time";
+
+const STALL: &str = "stall W [drive|steer|lift] on|off   (W = wheel 1..6)";
+const CUT: &str = "cut N   (N = controller 1..9)";
+const RESTORE: &str = "restore N   (N = controller 1..9)";
+const SPIKE: &str = "spike W drive|steer|lift AMPS MS";
+const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
+const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9)";
+const DROP: &str = "drop-serial N [to-master|to-host]";
+const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode)";
+
+fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
+    word.parse().map_err(|_| CommandError::BadNumber {
+        what,
+        given: word.to_owned(),
+    })
+}
+
+fn on_off(word: &str, usage: &'static str) -> Result<bool, CommandError> {
+    match word {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(CommandError::Usage(usage)),
+    }
+}
+
+fn wheel(word: &str) -> Result<u8, CommandError> {
+    let w = number(word, "a wheel number (1..6)")?;
+    if WHEELS.contains(&w) {
+        Ok(w)
+    } else {
+        Err(CommandError::BadNumber {
+            what: "a wheel number (1..6)",
+            given: word.to_owned(),
+        })
+    }
+}
+
+fn finite(word: &str, what: &'static str) -> Result<f64, CommandError> {
+    let v: f64 = number(word, what)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(CommandError::BadNumber {
+            what,
+            given: word.to_owned(),
+        })
+    }
+}
+
+impl Command {
+    /// Parses one command line (words separated by blanks).
+    pub fn parse(line: &str) -> Result<Command, CommandError> {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let Some((&first, rest)) = words.split_first() else {
+            return Err(CommandError::Empty);
+        };
+        match (first, rest) {
+            ("stall", [w, state]) => Ok(Command::Stall {
+                wheel: wheel(w)?,
+                axis: Axis::Drive,
+                on: on_off(state, STALL)?,
+            }),
+            ("stall", [w, axis, state]) => Ok(Command::Stall {
+                wheel: wheel(w)?,
+                axis: Axis::parse(axis).ok_or(CommandError::Usage(STALL))?,
+                on: on_off(state, STALL)?,
+            }),
+            ("stall", _) => Err(CommandError::Usage(STALL)),
+            ("cut", [n]) => Ok(Command::Cut(number(n, "a controller number (1..9)")?)),
+            ("cut", _) => Err(CommandError::Usage(CUT)),
+            ("restore", [n]) => Ok(Command::Restore(number(n, "a controller number (1..9)")?)),
+            ("restore", _) => Err(CommandError::Usage(RESTORE)),
+            ("spike", [w, axis, amps, ms]) => Ok(Command::Spike {
+                wheel: wheel(w)?,
+                axis: Axis::parse(axis).ok_or(CommandError::Usage(SPIKE))?,
+                amps: finite(amps, "a current in amperes")?,
+                ms: finite(ms, "a duration in milliseconds")?,
+            }),
+            ("spike", _) => Err(CommandError::Usage(SPIKE)),
+            ("sensor", [i, what]) => Ok(Command::Sensor {
+                index: number(i, "a sensor number (0..9)")?,
+                present: match *what {
+                    "remove" => false,
+                    "restore" => true,
+                    _ => return Err(CommandError::Usage(SENSOR)),
+                },
+            }),
+            ("sensor", _) => Err(CommandError::Usage(SENSOR)),
+            ("temp", [i, celsius]) => {
+                let c = finite(celsius, "a temperature in °C")?;
+                Ok(Command::Temp {
+                    index: number(i, "a sensor number (0..9)")?,
+                    half_degrees: (c * 2.0).round().clamp(-110.0, 250.0) as i16,
+                })
+            }
+            ("temp", _) => Err(CommandError::Usage(TEMP)),
+            ("drop-serial", [n]) => Ok(Command::DropSerial {
+                n: number(n, "a byte count")?,
+                direction: Direction::ToMaster,
+            }),
+            ("drop-serial", [n, dir]) => Ok(Command::DropSerial {
+                n: number(n, "a byte count")?,
+                direction: Direction::parse(dir).ok_or(CommandError::Usage(DROP))?,
+            }),
+            ("drop-serial", _) => Err(CommandError::Usage(DROP)),
+            ("rc", [state]) => Ok(Command::Rc(on_off(state, RC)?)),
+            ("rc", [ch, us]) => Ok(Command::RcWidth {
+                channel: number(ch, "an RC channel (0..2)")?,
+                us: number(us, "a pulse width in µs")?,
+            }),
+            ("rc", _) => Err(CommandError::Usage(RC)),
+            ("status", []) => Ok(Command::Status),
+            ("status", _) => Err(CommandError::Usage("status")),
+            ("time", []) => Ok(Command::Time),
+            ("time", _) => Err(CommandError::Usage("time")),
+            (other, _) => Err(CommandError::Unknown(other.to_owned())),
+        }
+    }
+
+    /// Applies the command to `rover`; returns what happened, in words.
+    pub fn apply(&self, rover: &mut Rover) -> Result<String, TwinError> {
+        Ok(match *self {
+            Command::Stall { wheel, axis, on } => {
+                rover.stall(wheel, axis, on)?;
+                let state = if on { "stalled" } else { "free" };
+                format!("wheel {wheel} {} {state}", axis.name())
+            }
+            Command::Cut(n) => {
+                rover.cut(n)?;
+                format!("controller {n} cut off the bus")
+            }
+            Command::Restore(n) => {
+                rover.restore(n)?;
+                format!("controller {n} back on the bus")
+            }
+            Command::Spike {
+                wheel,
+                axis,
+                amps,
+                ms,
+            } => {
+                rover.spike(wheel, axis, amps, ms)?;
+                format!("wheel {wheel} {}: +{amps} A for {ms} ms", axis.name())
+            }
+            Command::Sensor { index, present } => {
+                rover.set_sensor_present(index, present)?;
+                let state = if present { "restored" } else { "removed" };
+                format!("sensor {index} {state}")
+            }
+            Command::Temp {
+                index,
+                half_degrees,
+            } => {
+                rover.set_temperature(index, half_degrees)?;
+                format!(
+                    "sensor {index} measures {:.1} °C",
+                    f64::from(half_degrees) / 2.0
+                )
+            }
+            Command::DropSerial { n, direction } => {
+                rover.drop_serial(direction, n);
+                format!(
+                    "the next {n} serial bytes {} will be lost",
+                    direction.name()
+                )
+            }
+            Command::Rc(on) => {
+                rover.set_rc(on);
+                format!("RC receiver {}", if on { "on" } else { "off" })
+            }
+            Command::RcWidth { channel, us } => {
+                rover.set_rc_width(channel, us)?;
+                let widths = rover.rc_widths();
+                format!("RC channel {channel} = {} µs", widths[usize::from(channel)])
+            }
+            Command::Status => crate::status(rover),
+            Command::Time => format!("{} µs emulated", rover.micros()),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_command() {
+        let p = |s| Command::parse(s);
+        assert_eq!(
+            p("stall 3 on"),
+            Ok(Command::Stall {
+                wheel: 3,
+                axis: Axis::Drive,
+                on: true
+            })
+        );
+        assert_eq!(
+            p("stall 6 lift off"),
+            Ok(Command::Stall {
+                wheel: 6,
+                axis: Axis::Lift,
+                on: false
+            })
+        );
+        assert_eq!(p("cut 4"), Ok(Command::Cut(4)));
+        assert_eq!(p("  restore   4 "), Ok(Command::Restore(4)));
+        assert_eq!(
+            p("spike 2 steer 3.5 20"),
+            Ok(Command::Spike {
+                wheel: 2,
+                axis: Axis::Steer,
+                amps: 3.5,
+                ms: 20.0
+            })
+        );
+        assert_eq!(
+            p("sensor 0 remove"),
+            Ok(Command::Sensor {
+                index: 0,
+                present: false
+            })
+        );
+        assert_eq!(
+            p("temp 9 25.5"),
+            Ok(Command::Temp {
+                index: 9,
+                half_degrees: 51
+            })
+        );
+        assert_eq!(
+            p("drop-serial 3"),
+            Ok(Command::DropSerial {
+                n: 3,
+                direction: Direction::ToMaster
+            })
+        );
+        assert_eq!(
+            p("drop-serial 1 to-host"),
+            Ok(Command::DropSerial {
+                n: 1,
+                direction: Direction::ToHost
+            })
+        );
+        assert_eq!(p("rc on"), Ok(Command::Rc(true)));
+        assert_eq!(
+            p("rc 1 1200"),
+            Ok(Command::RcWidth {
+                channel: 1,
+                us: 1200
+            })
+        );
+        assert_eq!(p("status"), Ok(Command::Status));
+        assert_eq!(p("time"), Ok(Command::Time));
+    }
+
+    #[test]
+    fn refuses_bad_lines_with_the_usage() {
+        let e = |s| Command::parse(s).err().map(|e| e.to_string());
+        assert_eq!(Command::parse(""), Err(CommandError::Empty));
+        assert_eq!(
+            Command::parse("fly 3"),
+            Err(CommandError::Unknown("fly".into()))
+        );
+        assert_eq!(
+            e("stall 7 on").as_deref(),
+            Some("`7` is not a wheel number (1..6)")
+        );
+        assert_eq!(
+            e("stall 1 maybe").as_deref(),
+            Some(format!("usage: {STALL}").as_str())
+        );
+        assert_eq!(
+            Command::parse("spike 1 wheel 2 3"),
+            Err(CommandError::Usage(SPIKE))
+        );
+        assert_eq!(
+            e("spike 1 drive inf 3").as_deref(),
+            Some("`inf` is not a current in amperes")
+        );
+        assert_eq!(
+            Command::parse("sensor 2 eat"),
+            Err(CommandError::Usage(SENSOR))
+        );
+        assert_eq!(
+            Command::parse("drop-serial 2 sideways"),
+            Err(CommandError::Usage(DROP))
+        );
+        assert_eq!(Command::parse("rc"), Err(CommandError::Usage(RC)));
+        assert_eq!(
+            Command::parse("status now"),
+            Err(CommandError::Usage("status"))
+        );
+    }
+}
