@@ -18,7 +18,7 @@
 #![no_main]
 
 use avr_device::atmega328p::{Peripherals, PORTD, USART0};
-use firmware_examples::uart::{put, put_str};
+use firmware_examples::uart::{put, put_dec, put_str};
 
 /// PD6's bit in the port registers.
 const PIN: u8 = 1 << 6;
@@ -40,24 +40,6 @@ fn put_hex(uart: &USART0, bytes: &[u8]) {
     for &b in bytes {
         put(uart, HEX[usize::from(b >> 4)]);
         put(uart, HEX[usize::from(b & 15)]);
-    }
-}
-
-fn put_dec(uart: &USART0, n: u16) {
-    let mut digits = [0u8; 5];
-    let mut len = 0;
-    let mut v = n;
-    loop {
-        digits[len] = b'0' + (v % 10) as u8;
-        len += 1;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    while len > 0 {
-        len -= 1;
-        put(uart, digits[len]);
     }
 }
 

@@ -9,9 +9,9 @@
 #![feature(abi_avr_interrupt)]
 
 use core::cell::Cell;
-use firmware_examples::uart::{put, put_str};
+use firmware_examples::uart::{put, put_dec, put_str};
 
-use avr_device::atmega328p::{Peripherals, USART0};
+use avr_device::atmega328p::Peripherals;
 use avr_device::interrupt::Mutex;
 
 /// Channel pins in PIND: D2, D3, D4.
@@ -64,24 +64,6 @@ fn PCINT2() {
         e.width.set(width);
         e.fresh.set(fresh);
     });
-}
-
-fn put_dec(uart: &USART0, n: u16) {
-    let mut digits = [0u8; 5];
-    let mut len = 0;
-    let mut v = n;
-    loop {
-        digits[len] = b'0' + (v % 10) as u8;
-        len += 1;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    while len > 0 {
-        len -= 1;
-        put(uart, digits[len]);
-    }
 }
 
 #[avr_device::entry]
