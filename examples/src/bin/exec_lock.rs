@@ -11,7 +11,7 @@
 
 mod exec_support;
 
-use exec_support::{busy, setup_triggers, trigger, Trace, Trigger, Uart};
+use exec_support::{busy, setup_triggers, trigger, wait_for_events, Trace, Trigger, Uart};
 
 executor::app! {
     #[shared]
@@ -63,20 +63,10 @@ fn init(cx: init::Context) -> (Shared, Local) {
 fn idle(mut cx: idle::Context) -> ! {
     cx.local.uart.put_str(b"exec_lock ready\n");
     trigger(Trigger::Pcint0);
-    for _ in 0..200 {
-        if cx.shared.trace.lock(|t| t.len()) >= 8 {
-            break;
-        }
-        busy(50);
-    }
+    // Wait (bounded) for the events, then report what happened.
+    wait_for_events(8, || cx.shared.trace.lock(|t| t.len()));
     let uart = &mut *cx.local.uart;
-    uart.put_str(b"lock trace=");
-    cx.shared.trace.lock(|t| {
-        for &e in t.events() {
-            uart.put(e);
-        }
-    });
-    uart.put(b'\n');
+    cx.shared.trace.lock(|t| uart.put_trace(b"lock trace=", t));
     loop {
         cx.sleep.sleep();
     }

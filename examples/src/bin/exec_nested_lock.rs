@@ -15,7 +15,7 @@
 
 mod exec_support;
 
-use exec_support::{busy, setup_triggers, trigger, Trace, Trigger, Uart};
+use exec_support::{busy, setup_triggers, trigger, wait_for_events, Trace, Trigger, Uart};
 
 executor::app! {
     #[shared]
@@ -69,20 +69,12 @@ fn init(cx: init::Context) -> (Shared, Local) {
 fn idle(mut cx: idle::Context) -> ! {
     cx.local.uart.put_str(b"exec_nested_lock ready\n");
     trigger(Trigger::Pcint0);
-    for _ in 0..200 {
-        if cx.shared.trace.lock(|t| t.len()) >= 14 {
-            break;
-        }
-        busy(50);
-    }
+    // Wait (bounded) for the events, then report what happened.
+    wait_for_events(14, || cx.shared.trace.lock(|t| t.len()));
     let uart = &mut *cx.local.uart;
-    uart.put_str(b"nested trace=");
-    cx.shared.trace.lock(|t| {
-        for &e in t.events() {
-            uart.put(e);
-        }
-    });
-    uart.put(b'\n');
+    cx.shared
+        .trace
+        .lock(|t| uart.put_trace(b"nested trace=", t));
     loop {
         cx.sleep.sleep();
     }

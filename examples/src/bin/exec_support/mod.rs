@@ -131,12 +131,31 @@ impl Uart {
         }
     }
 
+    /// Sends `label`, the trace's events and a newline (the line the emulator tests parse).
+    pub fn put_trace(&mut self, label: &[u8], trace: &Trace) {
+        self.put_str(label);
+        for &e in trace.events() {
+            self.put(e);
+        }
+        self.put(b'\n');
+    }
+
     /// Sends `key=value ` (the format the emulator tests parse).
     pub fn field(&mut self, key: &[u8], value: u32) {
         self.put_str(key);
         self.put(b'=');
         self.put_dec(value);
         self.put(b' ');
+    }
+}
+
+/// Waits, bounded (200 rounds of `busy(50)`), until `len()` reports at least `n` events.
+pub fn wait_for_events(n: usize, mut len: impl FnMut() -> usize) {
+    for _ in 0..200 {
+        if len() >= n {
+            return;
+        }
+        busy(50);
     }
 }
 
