@@ -4,28 +4,9 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, EEPROM};
+use avr_device::atmega328p::Peripherals;
+use firmware_examples::eeprom::{ee_read, ee_write};
 use firmware_examples::uart::{put, put_dec, put_str, uart_init};
-
-/// Reads one EEPROM byte.
-fn ee_read(ee: &EEPROM, addr: u16) -> u8 {
-    while ee.eecr().read().eepe().bit_is_set() {}
-    // SAFETY: addresses below 1024 are valid EEAR values.
-    ee.eear().write(|w| unsafe { w.bits(addr) });
-    ee.eecr().write(|w| w.eere().set_bit());
-    ee.eedr().read().bits()
-}
-
-/// Writes one EEPROM byte (erase and write), interrupts assumed off.
-fn ee_write(ee: &EEPROM, addr: u16, value: u8) {
-    while ee.eecr().read().eepe().bit_is_set() {}
-    // SAFETY: addresses below 1024 are valid EEAR values; any EEDR value is valid.
-    ee.eear().write(|w| unsafe { w.bits(addr) });
-    ee.eedr().write(|w| unsafe { w.bits(value) });
-    ee.eecr().write(|w| w.eempe().set_bit());
-    ee.eecr().write(|w| w.eempe().set_bit().eepe().set_bit());
-    while ee.eecr().read().eepe().bit_is_set() {}
-}
 
 #[avr_device::entry]
 fn main() -> ! {
