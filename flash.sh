@@ -147,7 +147,7 @@ rm -f "$dir"/{image.elf,flash.hex,eeprom.hex,eeprom-byte.bin,flash.bin,eeprom.bi
 
 echo "flash.sh: building firmware (scripts/firmware.sh)" >&2
 scripts/firmware.sh >/dev/null || fail "firmware build failed (see the cargo errors above)"
-elf=target/firmware/$role.elf
+elf=${BLODWEN_FIRMWARE_DIR:-target/firmware}/$role.elf
 [ -f "$elf" ] || fail "$elf was not produced by scripts/firmware.sh"
 # Work from a private copy so a parallel build cannot change the image under us.
 cp "$elf" "$dir/image.elf"

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Builds every AVR image (nightly, avr-none, atmega328p, -Zbuild-std=core) and copies
-# the ELF files to target/firmware/, the fixed paths that tests, the twin and flash.sh use.
+# the ELF files to target/firmware/, the fixed paths that tests, the twin and flash.sh use
+# (or to $BLODWEN_FIRMWARE_DIR, which the harness reads too).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 tdir=${CARGO_TARGET_DIR:-$root/target}
-out=$root/target/firmware
+out=${BLODWEN_FIRMWARE_DIR:-$root/target/firmware}
 mkdir -p "$out"
 cargo +nightly build --target avr-none -Zbuild-std=core --profile avr \
   -p master -p slave -p firmware-examples -p drivers "$@"

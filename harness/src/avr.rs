@@ -377,16 +377,20 @@ impl Drop for Avr {
     }
 }
 
-/// `<workspace>/target/firmware/<name>.elf`.
+/// `<workspace>/target/firmware/<name>.elf`, or `$BLODWEN_FIRMWARE_DIR/<name>.elf` when
+/// that is set (as `scripts/firmware.sh` honours it), so that two work trees or two
+/// builds in progress do not test each other's images.
 pub fn firmware_path(name: &str) -> PathBuf {
-    let workspace = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
-    workspace
-        .join("target")
-        .join("firmware")
-        .join(format!("{name}.elf"))
+    let dir = match std::env::var_os("BLODWEN_FIRMWARE_DIR") {
+        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
+        _ => Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+            .join("target")
+            .join("firmware"),
+    };
+    dir.join(format!("{name}.elf"))
 }
 
 /// Reads a C string simavr owns, if it is not NULL.
