@@ -89,8 +89,10 @@ pub struct Avr {
     last_raw_cycle: u64,
     watchdog_resets: u32,
     state: CpuState,
-    /// Absolute cycle of the pending deadline timer, if one is scheduled.
-    deadline_at: Option<u64>,
+    /// The sleep deadline: its next firing (absolute cycles) and its period.
+    deadline_at: Option<(u64, u64)>,
+    /// The ADC's input IRQs (ADC0..ADC7 in a row), looked up once.
+    pub(crate) adc_inputs: Option<NonNull<ffi::avr_irq_t>>,
     /// Records behind the hardware-fidelity hooks ([`crate::fidelity`]); they must outlive
     /// the core, which `Drop` terminates before the fields are dropped.
     // Boxed so each record keeps its address (simavr holds it) when the Vec grows.
@@ -105,10 +107,13 @@ unsafe extern "C" fn no_real_sleep(_avr: *mut ffi::avr_t, _how_long: ffi::avr_cy
 /// A timer that does nothing; it only bounds how far a sleeping CPU jumps.
 unsafe extern "C" fn deadline(
     _avr: *mut ffi::avr_t,
-    _when: ffi::avr_cycle_count_t,
-    _param: *mut c_void,
+    when: ffi::avr_cycle_count_t,
+    param: *mut c_void,
 ) -> ffi::avr_cycle_count_t {
-    0
+    // `param` carries the period in cycles (not a pointer): the deadline re-arms itself
+    // one period on, which is where the next run of a lock-stepped bus ends, so the
+    // harness does not cancel and register a timer for every quantum.
+    when + param as ffi::avr_cycle_count_t
 }
 
 impl Avr {
@@ -208,6 +213,7 @@ impl Avr {
             watchdog_resets: 0,
             state: CpuState::Running,
             deadline_at: None,
+            adc_inputs: None,
             _fidelity: Vec::new(),
         };
         avr._fidelity = crate::fidelity::install(avr.raw.as_ptr());
@@ -244,6 +250,21 @@ impl Avr {
 
     /// Runs one emulator step (one instruction, or one sleep jump to the next timer).
     pub fn step(&mut self) -> CpuState {
+        let p = self.raw.as_ptr();
+        if let Some((_, period)) = self.deadline_at.take() {
+            // A single step has no deadline: a sleeping CPU jumps to its next event,
+            // not to the end of an earlier run's period.
+            // SAFETY: timers are owned by the live core; cancelling matches the
+            // callback and param registered by `arm_deadline`.
+            unsafe {
+                ffi::avr_cycle_timer_cancel(p, Some(deadline), period as usize as *mut c_void)
+            };
+        }
+        self.step_raw()
+    }
+
+    /// One emulator step, keeping an armed deadline.
+    fn step_raw(&mut self) -> CpuState {
         let p = self.raw.as_ptr();
         // SAFETY: the core is initialised and owned by `self`; no Rust reference into
         // it or into `shared`'s cells is alive across this call.
@@ -299,7 +320,7 @@ impl Avr {
     /// Sleep is fast-forwarded: a sleeping CPU jumps to its next timer event.
     pub fn run_cycles(&mut self, n: u64) {
         let target = self.cycles().saturating_add(n);
-        self.run_to(target, |_| false);
+        self.run_to_target(target);
     }
 
     /// Runs for `us` emulated microseconds (see [`Avr::run_cycles`]).
@@ -328,26 +349,82 @@ impl Avr {
                 return false;
             }
             self.arm_deadline(now, target);
-            self.step();
+            self.step_raw();
             if stop(self) {
                 return true;
             }
         }
     }
 
+    /// [`Avr::run_to`] with nothing to check between steps: the lock-stepped bus's inner
+    /// loop, where the harness's own work per instruction is most of what it costs
+    /// beyond simavr. Between resets only simavr's raw cycle counter needs reading.
+    pub(crate) fn run_to_target(&mut self, target: u64) {
+        let p = self.raw.as_ptr();
+        // The inner loop leaves `self.state` stale until it ends; nothing reads it
+        // meanwhile (hooks see only simavr's core).
+        loop {
+            let now = self.cycles();
+            if now >= target || self.state.is_halted() {
+                return;
+            }
+            self.arm_deadline(now, target);
+            let raw_target = target - self.shared.base.get();
+            let running = [ffi::cpu_Running as i32, ffi::cpu_Sleeping as i32];
+            loop {
+                // SAFETY: the core is initialised and owned by `self`; no Rust reference
+                // into it or into `shared`'s cells is alive across this call.
+                let raw_state = unsafe { ffi::avr_run(p) };
+                // SAFETY: plain field read of a live core.
+                let raw_cycle = unsafe { (*p).cycle };
+                let reset = raw_cycle < self.last_raw_cycle;
+                if reset || !running.contains(&raw_state) || raw_cycle >= raw_target {
+                    // A reset, a halt or the end: the outer loop does the bookkeeping.
+                    if reset {
+                        self.after_reset();
+                    } else {
+                        self.last_raw_cycle = raw_cycle;
+                    }
+                    self.state = CpuState::from_raw(raw_state);
+                    break;
+                }
+                self.last_raw_cycle = raw_cycle;
+            }
+        }
+    }
+
     /// Makes sure a sleeping CPU does not jump past the absolute cycle `target`.
     fn arm_deadline(&mut self, now: u64, target: u64) {
-        if self.deadline_at == Some(target) {
-            return;
+        if let Some((at, period)) = self.deadline_at {
+            // The deadline re-arms itself every `period` cycles; simavr runs it as soon
+            // as the cycle counter reaches it, so it has fired at every step up to `now`.
+            let next = if at > now {
+                at
+            } else {
+                at + ((now - at) / period + 1) * period
+            };
+            self.deadline_at = Some((next, period));
+            if next == target {
+                return;
+            }
         }
         let p = self.raw.as_ptr();
-        // SAFETY: timers are owned by the live core; `deadline` ignores its param,
-        // and cancelling a timer that already fired is a no-op.
+        let period = target - now;
+        // SAFETY: timers are owned by the live core; `deadline` reads its param as a
+        // number, never as a pointer, and cancelling a timer that is not queued is a
+        // no-op (cancel matches the callback and param of the one registered before).
         unsafe {
-            ffi::avr_cycle_timer_cancel(p, Some(deadline), std::ptr::null_mut());
-            ffi::avr_cycle_timer_register(p, target - now, Some(deadline), std::ptr::null_mut());
+            if let Some((_, old)) = self.deadline_at {
+                ffi::avr_cycle_timer_cancel(p, Some(deadline), old as usize as *mut c_void);
+            }
+            ffi::avr_cycle_timer_register(
+                p,
+                period,
+                Some(deadline),
+                period as usize as *mut c_void,
+            );
         }
-        self.deadline_at = Some(target);
+        self.deadline_at = Some((target, period));
     }
 
     /// Fails with [`HarnessError::Halted`] if the CPU has halted.

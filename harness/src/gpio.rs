@@ -107,7 +107,38 @@ fn duty(shape: Shape, com: u8, ocr: u16, top: u16) -> Option<f32> {
     }
 }
 
+/// simavr's index of a timer's first compare-output IRQ (`TIMER_IRQ_OUT_COMP`).
+const TIMER_IRQ_OUT_COMP: i32 = 4;
+
 impl Avr {
+    /// Stops simavr from drawing the PWM waveforms on the output-compare pins (OC0A/B,
+    /// OC1A/B, OC2A/B): the pins then follow their PORT bits only, while the timers,
+    /// their interrupts and [`Avr::pwm_duty`] (read from the timer registers) work as
+    /// before. A model that takes the duty from [`Avr::pwm_duty`] loses nothing, and at
+    /// 31 kHz the waveform costs the emulator about a tenth of its time per board.
+    pub fn detach_pwm_waveforms(&mut self) {
+        let oc_pins = [
+            (b'0', [Pin::d(6), Pin::d(5)]),
+            (b'1', [Pin::d(9), Pin::d(10)]),
+            (b'2', [Pin::d(11), Pin::d(3)]),
+        ];
+        for (timer, pins) in oc_pins {
+            let ctl = ioctl_def(b't', b'm', b'r', timer);
+            for (comp, pin) in (0..).zip(pins) {
+                // SAFETY: live core; avr_io_getirq returns NULL for an unknown IRQ.
+                let from = unsafe {
+                    ffi::avr_io_getirq(self.raw.as_ptr(), ctl, TIMER_IRQ_OUT_COMP + comp)
+                };
+                let to = self.pin_irq(pin);
+                if !from.is_null() && !to.is_null() {
+                    // SAFETY: both IRQs belong to this live core; unconnecting a pair
+                    // that is not connected does nothing.
+                    unsafe { ffi::avr_unconnect_irq(from, to) };
+                }
+            }
+        }
+    }
+
     /// The ioport IRQ of one pin, NULL for a port the chip lacks.
     fn pin_irq(&self, pin: Pin) -> *mut ffi::avr_irq_t {
         if pin.registers().is_none() {

@@ -49,3 +49,36 @@ fn pwm_duty_on_d9_is_a_quarter() {
     assert_eq!(avr.pwm_duty(uno::D10), None, "OC1B is not enabled");
     assert_eq!(avr.pwm_duty(uno::D13), None, "not a PWM pin");
 }
+
+#[test]
+fn detached_pwm_pin_keeps_its_duty_but_draws_no_waveform() {
+    let mut with_wave = Avr::firmware("fixture_pins").unwrap();
+    let mut detached = Avr::firmware("fixture_pins").unwrap();
+    detached.detach_pwm_waveforms();
+    for avr in [&mut with_wave, &mut detached] {
+        avr.run_us(100);
+        avr.trace_pin(uno::D9);
+        avr.run_us(200);
+    }
+    // The trace starts with the level at the start; then the waveform's edges.
+    let edges = with_wave.pin_trace(uno::D9).len() - 1;
+    assert!(edges >= 4, "{edges} edges in 200 µs of PWM");
+    assert_eq!(
+        detached.pin_trace(uno::D9).len(),
+        1,
+        "no waveform once detached"
+    );
+    assert_eq!(detached.pwm_duty(uno::D9), Some(0.25));
+}
+
+#[test]
+fn adc_input_keeps_its_value_when_reapplied() {
+    let mut avr = Avr::firmware("fixture_pins").unwrap();
+    avr.set_adc_mv(3, 1234);
+    avr.set_adc_mv(3, 1234);
+    avr.set_adc_mv(3, 2000);
+    avr.set_adc_mv(9, 5);
+    assert_eq!(avr.adc_input_mv(3), Some(2000));
+    assert_eq!(avr.adc_input_mv(2), Some(0));
+    assert_eq!(avr.adc_input_mv(9), None);
+}

@@ -85,6 +85,8 @@ impl Rover {
             let name = wiring::image_of(n);
             let mut avr = Avr::load(&config.image(name))?;
             avr.eeprom_write(0, &[n]);
+            // The physics reads each motor's duty from the timer registers.
+            avr.detach_pwm_waveforms();
             let chip = bus.add_slave(avr)?;
             plant.attach(chip, SlaveBoardModel::for_controller(n)?);
             names.push(format!("{name} {n}"));
