@@ -13,7 +13,9 @@
 //!   them ([`analysis`]). `lock` raises the system to the ceiling: it masks the sources at
 //!   or below it, or clears the global flag for the top ceiling. A resource whose users
 //!   all run at one priority needs no lock and dereferences directly.
-//! - **Local resources** owned by one task and handed to it as `&mut`: task-local state.
+//! - **Local resources** owned by one task and handed to it as `&mut`: task-local state,
+//!   either returned by `init` or declared with a constant value in the task's attribute
+//!   (`const_local`), which puts it straight into static memory.
 //! - **Idle** at priority 0, which sleeps the CPU when there is nothing to do.
 //! - **Gated sources** ([`gate`]) whose interrupts drivers switch at run time, such as
 //!   USART_UDRE, without fighting the masking.
@@ -50,7 +52,7 @@ mod port;
 
 pub use analysis::{LevelMasks, RegBits, MAX_PRIORITY};
 pub use port::{Device, Sleep};
-pub use resource::{ResourceCell, Shared};
+pub use resource::{LocalCell, ResourceCell, Shared};
 pub use source::{Reg, Source};
 
 #[cfg(target_arch = "avr")]

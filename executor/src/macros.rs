@@ -38,11 +38,15 @@
 /// - `#[shared]` lists the resources that tasks share, `#[local]` those that one task owns
 ///   (task-local state). `init` returns their initial values, runs with interrupts off and
 ///   gets the device peripherals as `cx.device`.
+/// - A task (or idle) may also own local resources declared with a constant value in its
+///   attribute, `const_local = [name: Type = expr, ...]`: each is a `static` built at
+///   compile time ([`LocalCell`](crate::LocalCell)), never returned by `init`, handed to
+///   the task as `cx.local.name: &mut Type`.
 /// - `#[idle]` is optional: idle runs at priority 0 and sleeps with `cx.sleep`. Without
 ///   it, the executor's idle sleeps between interrupts.
 /// - Each `#[task]` binds a vector (the ATmega328P vector names of [`Source`](crate::Source))
 ///   at a priority 1..=[`MAX_PRIORITY`](crate::MAX_PRIORITY), in this order: `binds`,
-///   `priority`, then optionally `shared`, `local` and `gated = true` (see
+///   `priority`, then optionally `shared`, `local`, `const_local` and `gated = true` (see
 ///   [`gate`](crate::gate)).
 ///
 /// Each task `t` gets a module `t` with `t::Context`: `cx.shared.r` is a handle with
@@ -68,7 +72,9 @@ macro_rules! app {
         fn $init:ident;
 
         $(
-            #[idle( $(shared = [$($ishared:ident),* $(,)?])? $(,)? $(local = [$($ilocal:ident),* $(,)?])? )]
+            #[idle( $(shared = [$($ishared:ident),* $(,)?])? $(,)?
+                    $(local = [$($ilocal:ident),* $(,)?])? $(,)?
+                    $(const_local = [$($iclocal:ident : $iclty:ty = $iclinit:expr),* $(,)?])? )]
             fn $idle:ident;
         )?
 
@@ -76,6 +82,7 @@ macro_rules! app {
             #[task(binds = $vector:ident, priority = $prio:literal
                 $(, shared = [$($tshared:ident),* $(,)?])?
                 $(, local = [$($tlocal:ident),* $(,)?])?
+                $(, const_local = [$($tclocal:ident : $tclty:ty = $tclinit:expr),* $(,)?])?
                 $(, gated = $gated:tt)? $(,)?)]
             fn $task:ident;
         )*
@@ -208,6 +215,7 @@ macro_rules! app {
                 $idle, 0,
                 [$($($ishared),*)?],
                 [$($($ilocal),*)?],
+                [$($($iclocal : $iclty = $iclinit),*)?],
                 {
                     /// Idle's right to sleep the CPU.
                     pub sleep: $crate::Sleep,
@@ -225,6 +233,7 @@ macro_rules! app {
                 $task, $prio,
                 [$($($tshared),*)?],
                 [$($($tlocal),*)?],
+                [$($($tclocal : $tclty = $tclinit),*)?],
                 {},
                 {},
                 { $crate::__exec_gate_fns!($vector $(, $gated)?); }
@@ -338,6 +347,7 @@ macro_rules! __exec_context {
         $name:ident, $prio:expr,
         [$($shared:ident),*],
         [$($local:ident),*],
+        [$($clocal:ident : $clty:ty = $clinit:expr),*],
         { $($extra_field:tt)* },
         { $($extra_init:tt)* },
         { $($items:tt)* }
@@ -363,11 +373,28 @@ macro_rules! __exec_context {
                 pub __life: ::core::marker::PhantomData<&'a ()>,
             }
 
+            /// The task's local resources declared with their values (`const_local`):
+            /// each a static built at compile time, its type under the same name.
+            #[doc(hidden)]
+            #[allow(non_camel_case_types, non_upper_case_globals)]
+            pub mod __const_local {
+                #[allow(unused_imports)]
+                use super::super::*;
+                $(
+                    pub type $clocal = $clty;
+                    pub static $clocal: $crate::LocalCell<$clty> = $crate::LocalCell::new($clinit);
+                )*
+            }
+
             /// The local resources the task owns.
             pub struct LocalResources<'a> {
                 $(
                     #[allow(missing_docs)]
                     pub $local: &'a mut super::__exec_ltypes::$local,
+                )*
+                $(
+                    #[allow(missing_docs)]
+                    pub $clocal: &'a mut __const_local::$clocal,
                 )*
                 #[doc(hidden)]
                 pub __life: ::core::marker::PhantomData<&'a ()>,
@@ -412,6 +439,12 @@ macro_rules! __exec_context {
                                         (*super::__EXEC_RESOURCES.as_mut_ptr()).1.$local
                                     )
                                 },
+                            )*
+                            $(
+                                // SAFETY: the cell is declared in this task's attribute,
+                                // so this context is its only user, and the task runs one
+                                // at a time.
+                                $clocal: unsafe { &mut *__const_local::$clocal.as_mut_ptr() },
                             )*
                             __life: ::core::marker::PhantomData,
                         },

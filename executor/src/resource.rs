@@ -3,7 +3,9 @@
 //! A resource lives in a [`ResourceCell`], a plain `static` that only the code
 //! [`crate::app!`] generates can open. A task reaches a shared resource only through the
 //! [`Shared`] proxy in its context, and a local one only as the `&mut` in its context, so
-//! there is no other path to the data: data-race freedom holds by construction.
+//! there is no other path to the data: data-race freedom holds by construction. A local
+//! resource declared with its value (`const_local`) lives in its own [`LocalCell`],
+//! a `static` built at compile time, opened only by its task's context.
 
 use core::cell::UnsafeCell;
 use core::marker::PhantomData;
@@ -46,6 +48,32 @@ impl<T> ResourceCell<T> {
     #[inline(always)]
     pub fn as_mut_ptr(&self) -> *mut T {
         self.0.get().cast()
+    }
+}
+
+/// Storage of one task's local resource declared with its value (`const_local`): built by
+/// a constant expression, laid out by the linker (`.bss` when all zeros, else `.data`),
+/// so it never passes through `init` or the stack. Only the owning task's generated
+/// context opens it.
+pub struct LocalCell<T>(UnsafeCell<T>);
+
+// SAFETY: the cell is opened only by the generated context of the one task that declares
+// it, and a task's runs never overlap (a task preempts only lower priorities, never
+// itself), so at most one `&mut` to the value exists at a time. The value is built at
+// compile time and used at the task's priority, hence `T: Send`.
+unsafe impl<T: Send> Sync for LocalCell<T> {}
+
+impl<T> LocalCell<T> {
+    /// A cell holding `value`, built at compile time.
+    pub const fn new(value: T) -> Self {
+        LocalCell(UnsafeCell::new(value))
+    }
+
+    /// Pointer to the value. Dereferencing it is sound only in the owning task's context,
+    /// which the generated code alone creates.
+    #[inline(always)]
+    pub fn as_mut_ptr(&self) -> *mut T {
+        self.0.get()
     }
 }
 

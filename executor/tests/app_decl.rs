@@ -27,10 +27,11 @@ executor::app! {
     #[init]
     fn init;
 
-    #[idle(shared = [count], local = [idle_runs])]
+    #[idle(shared = [count], local = [idle_runs], const_local = [banner: [u8; 2] = *b"hi"])]
     fn idle;
 
-    #[task(binds = ADC, priority = 1, shared = [log, count], local = [steps])]
+    #[task(binds = ADC, priority = 1, shared = [log, count], local = [steps],
+           const_local = [total: u16 = 1000, last: Option<u8> = None])]
     fn adc;
 
     #[task(binds = TWI, priority = 2, shared = [log, own])]
@@ -68,6 +69,8 @@ fn idle(mut cx: idle::Context) -> ! {
 
 fn adc(mut cx: adc::Context) {
     *cx.local.steps += 1;
+    *cx.local.total += 1;
+    *cx.local.last = Some(*cx.local.steps);
     cx.shared.log.lock(|l| l.seen.push("adc"));
     cx.shared.count.lock(|c| *c += 1);
 }
@@ -132,6 +135,13 @@ fn masks_gates_and_start_bits_follow_the_tasks() {
 
 #[test]
 fn contexts_reach_the_declared_resources() {
+    // Const locals are built at compile time: their values are in place before `init`.
+    // SAFETY: no context exists yet (the one test that creates contexts is this one).
+    unsafe {
+        assert_eq!(*idle::__const_local::banner.as_mut_ptr(), *b"hi");
+        assert_eq!(*adc::__const_local::total.as_mut_ptr(), 1000);
+        assert_eq!(*adc::__const_local::last.as_mut_ptr(), None);
+    }
     // SAFETY: what the generated `main` does, on one thread, before any context exists.
     unsafe { __EXEC_RESOURCES.write(init(init::Context::new())) };
     // SAFETY: one context at a time, as the vectors would create them.
@@ -149,4 +159,10 @@ fn contexts_reach_the_declared_resources() {
     assert_eq!(shared.own, 1);
     assert_eq!(local.steps, 2);
     assert_eq!(local.idle_runs, 0);
+    // The task's const locals kept their state across its two runs.
+    // SAFETY: no context is alive any more.
+    unsafe {
+        assert_eq!(*adc::__const_local::total.as_mut_ptr(), 1002);
+        assert_eq!(*adc::__const_local::last.as_mut_ptr(), Some(2));
+    }
 }
