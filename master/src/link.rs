@@ -1,7 +1,6 @@
 //! The PC link's plumbing: the queues between the USART tasks and idle, and the clock.
 
-use heapless::Deque;
-use shared::master::LinkError;
+use shared::master::{LinkError, Ring};
 
 /// What the receive task hands to idle: two bytes each, so the queue stays small.
 #[derive(Clone, Copy, Debug)]
@@ -29,11 +28,11 @@ impl RxEvent {
 /// longer than idle is ever kept from them (it drains them between any two pieces of
 /// work, the longest being a remote-control pass of ~1.5 ms; while it executes a PC
 /// frame, the PC waits for the reply).
-pub type RxQueue = Deque<RxEvent, 32>;
+pub type RxQueue = Ring<RxEvent, 32>;
 
 /// Reply bytes waiting for the transmitter. A longer reply is streamed: the relay waits
 /// for room between the bytes it reads, so the reply goes out at line speed anyway.
-pub type TxQueue = Deque<u8, 32>;
+pub type TxQueue = Ring<u8, 32>;
 
 /// Milliseconds since boot, advanced by the 1 kHz tick.
 pub struct Clock {

@@ -42,7 +42,6 @@ mod panic;
 mod pc;
 mod relay;
 mod remote;
-mod store;
 mod temperature;
 mod traffic;
 
@@ -59,45 +58,11 @@ use pc::{PcLink, Serve};
 use relay::TwiRelay;
 use remote::{EdgeQueue, RcEdges, RemoteControl, Work};
 use shared::master::{Schedule, Service};
-use store::Store;
 use temperature::Temperatures;
 use traffic::Traffic;
 
 /// PD2..PD4 in PCMSK2: the RC channels raise PCINT2.
 const RC_PIN_MASK: u8 = 0b0001_1100;
-
-/// Idle's state that needs no hardware and starts as zeros: built at compile time (see
-/// `store`), in `.bss`.
-pub struct Blank {
-    /// The PC link's parser and inter-byte timeout.
-    pc: PcLink,
-    /// The temperature sensors.
-    temps: Temperatures,
-    /// The remote control.
-    remote: RemoteControl,
-}
-
-/// Idle's state that needs no hardware but starts with set values: built at compile
-/// time (see `store`), in `.data`.
-pub struct Preset {
-    /// The frame logic, the read sets and device 0.
-    service: Service,
-    /// The schedule of slave traffic.
-    schedule: Schedule,
-}
-
-/// The one instance of idle's zero-initialised state.
-static BLANK: Store<Blank> = Store::new(Blank {
-    pc: PcLink::new(),
-    temps: Temperatures::new(),
-    remote: RemoteControl::new(),
-});
-
-/// The one instance of idle's preset state.
-static PRESET: Store<Preset> = Store::new(Preset {
-    service: Service::new(),
-    schedule: Schedule::new(),
-});
 
 executor::app! {
     #[shared]
@@ -111,8 +76,6 @@ executor::app! {
 
     #[local]
     struct Local {
-        blank: &'static mut Blank,
-        preset: &'static mut Preset,
         watchdog: Watchdog,
         relay: TwiRelay,
         wire: OneWire,
@@ -125,8 +88,19 @@ executor::app! {
     #[init]
     fn init;
 
+    // Idle's state that needs no hardware is built at compile time, straight into
+    // static memory (`.bss` or `.data`), instead of passing through init and the stack:
+    // the PC link (parser, inter-byte timeout, read sets), the sensors, the remote
+    // control, the frame logic with device 0 and the schedule of slave traffic.
     #[idle(shared = [rx, tx, clock, edges],
-           local = [blank, preset, watchdog, relay, wire, leds])]
+           local = [watchdog, relay, wire, leds],
+           const_local = [
+               pc: PcLink = PcLink::new(),
+               temps: Temperatures = Temperatures::new(),
+               remote: RemoteControl = RemoteControl::new(),
+               service: Service = Service::new(),
+               schedule: Schedule = Schedule::new(),
+           ])]
     fn idle;
 
     #[task(binds = USART_RX, priority = 3, shared = [usart, rx])]
@@ -163,15 +137,12 @@ fn init(cx: init::Context) -> (Shared, Local) {
     (
         Shared {
             usart,
-            rx: RxQueue::new(),
-            tx: TxQueue::new(),
+            rx: RxQueue::new(RxEvent::Overrun),
+            tx: TxQueue::new(0),
             clock: Clock::new(),
-            edges: EdgeQueue::new(),
+            edges: EdgeQueue::new((0, 0)),
         },
         Local {
-            // SAFETY (both): init runs once, so these are the only references.
-            blank: unsafe { BLANK.take() },
-            preset: unsafe { PRESET.take() },
             watchdog,
             relay: TwiRelay::new(twi),
             wire,
@@ -185,20 +156,19 @@ fn init(cx: init::Context) -> (Shared, Local) {
 
 fn idle(mut cx: idle::Context) -> ! {
     let l = cx.local;
-    let (z, p) = (&mut **l.blank, &mut **l.preset);
     banner::starting(&mut Replies::new(&mut cx.shared.tx));
     // Boot work, under the 1-s watchdog: the sensors, then the slaves' hard resets
     // (REG_RESET = 2), after which each reboots into its boot exception with defaults.
-    z.temps.discover(l.wire, l.watchdog);
-    while !p.schedule.booted() {
+    l.temps.discover(l.wire, l.watchdog);
+    while !l.schedule.booted() {
         let now = cx.shared.clock.lock(|c| c.ms());
         let mut traffic = Traffic {
-            schedule: &mut p.schedule,
-            local: &mut p.service.local,
+            schedule: l.schedule,
+            local: &mut l.service.local,
             relay: l.relay,
             watchdog: l.watchdog,
         };
-        traffic.schedule_step(now, &mut z.temps, l.leds);
+        traffic.schedule_step(now, l.temps, l.leds);
     }
     l.watchdog.start(Timeout::Ms125);
     banner::finish(&mut Replies::new(&mut cx.shared.tx));
@@ -209,18 +179,18 @@ fn idle(mut cx: idle::Context) -> ! {
         l.watchdog.feed();
         let now = cx.shared.clock.lock(|c| c.ms());
         while let Some(edge) = cx.shared.edges.lock(|q| q.pop_front()) {
-            z.remote.edge(edge, now);
+            l.remote.edge(edge, now);
         }
-        let rc_up = z.remote.link_up(now);
+        let rc_up = l.remote.link_up(now);
 
-        let mut busy = z.pc.drain(
+        let mut busy = l.pc.drain(
             &mut cx.shared.rx,
             &mut cx.shared.tx,
             &mut cx.shared.clock,
             rc_up,
             Serve {
-                service: &mut p.service,
-                schedule: &mut p.schedule,
+                service: l.service,
+                schedule: l.schedule,
                 relay: l.relay,
                 watchdog: l.watchdog,
             },
@@ -229,14 +199,22 @@ fn idle(mut cx: idle::Context) -> ! {
         // Then one piece of work: the PC link is drained between any two.
         let now = cx.shared.clock.lock(|c| c.ms());
         let mut traffic = Traffic {
-            schedule: &mut p.schedule,
-            local: &mut p.service.local,
+            schedule: l.schedule,
+            local: &mut l.service.local,
             relay: l.relay,
             watchdog: l.watchdog,
         };
-        busy |= one_piece_of_work(&mut turn, now, &mut traffic, z, l.wire, l.leds);
+        busy |= one_piece_of_work(
+            &mut turn,
+            now,
+            &mut traffic,
+            l.remote,
+            l.temps,
+            l.wire,
+            l.leds,
+        );
 
-        l.leds.note(&p.service.local.exception);
+        l.leds.note(&l.service.local.exception);
         l.leds.update(now, rc_up);
         if !busy {
             cx.sleep
@@ -252,14 +230,15 @@ fn one_piece_of_work(
     turn: &mut u8,
     now: u32,
     traffic: &mut Traffic<'_>,
-    z: &mut Blank,
+    remote: &mut RemoteControl,
+    temps: &mut Temperatures,
     wire: &mut OneWire,
     leds: &mut Leds,
 ) -> bool {
     for _ in 0..3 {
         *turn = (*turn + 1) % 3;
         let worked = match *turn {
-            0 => match z.remote.next(now) {
+            0 => match remote.next(now) {
                 Some(Work::Setup(w)) => {
                     traffic.remote_write(&w, now);
                     true
@@ -271,11 +250,11 @@ fn one_piece_of_work(
                 None => false,
             },
             1 => {
-                let ticking = z.temps.busy();
-                z.temps.step(wire, &mut traffic.local.temps);
+                let ticking = temps.busy();
+                temps.step(wire, &mut traffic.local.temps);
                 ticking
             }
-            _ => traffic.schedule_step(now, &mut z.temps, leds),
+            _ => traffic.schedule_step(now, temps, leds),
         };
         if worked {
             return true;
@@ -292,8 +271,7 @@ fn receive(mut cx: receive::Context) {
     };
     if cx.shared.rx.push_back(event).is_err() {
         // Idle is behind by a whole queue: the byte is lost like an overrun, and says so.
-        let _ = cx.shared.rx.pop_back();
-        let _ = cx.shared.rx.push_back(RxEvent::Overrun);
+        cx.shared.rx.replace_back(RxEvent::Overrun);
     }
 }
 

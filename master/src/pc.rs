@@ -7,7 +7,7 @@ use crate::link::{Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
 use crate::relay::{TwiRelay, Watched};
 use drivers::watchdog::Watchdog;
 use shared::master::{InterByteTimeout, LinkError, Schedule, Service};
-use shared::protocol::{FrameError, Parser};
+use shared::protocol::{FrameError, Parser, ReadSets};
 
 /// What serving a frame uses besides the link itself.
 pub struct Serve<'a> {
@@ -21,10 +21,11 @@ pub struct Serve<'a> {
     pub watchdog: &'a Watchdog,
 }
 
-/// The parser and the inter-byte timeout.
+/// The parser, the inter-byte timeout and the read sets.
 pub struct PcLink {
     parser: Parser,
     timeout: InterByteTimeout,
+    sets: ReadSets,
 }
 
 impl PcLink {
@@ -33,6 +34,7 @@ impl PcLink {
         PcLink {
             parser: Parser::new(),
             timeout: InterByteTimeout::new(),
+            sets: ReadSets::new(),
         }
     }
 
@@ -64,7 +66,8 @@ impl PcLink {
                 if !swallow {
                     let mut bus = Watched::new(s.relay, s.watchdog);
                     let mut out = Replies::new(tx);
-                    s.service.execute(frame, &mut bus, &mut |r| out.send(r));
+                    s.service
+                        .execute(&mut self.sets, frame, &mut bus, &mut |r| out.send(r));
                     if let Some((device, answered)) = bus.outcome() {
                         let now = clock.lock(|c| c.ms());
                         let latch = &mut s.service.local.exception;

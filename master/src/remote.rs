@@ -16,9 +16,9 @@
 
 use drivers::rc_pins::RcPins;
 use drivers::timer1::{EdgeClock, FreeRunning};
-use heapless::Deque;
-use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote, DS_CONTROLLERS};
-use shared::master::RegWrite;
+use shared::master::rc::setup::DS_CONTROLLERS_FLASH;
+use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote};
+use shared::master::{RegWrite, Ring};
 use shared::regs::id;
 
 /// A pass every this many ms while the link is up.
@@ -29,7 +29,7 @@ pub type Edge = (u16, u8);
 
 /// Pin changes waiting for idle. A receiver frame makes four changes in 20 ms, and idle
 /// is never away for more than a few ms, so eight is ample.
-pub type EdgeQueue = Deque<Edge, 8>;
+pub type EdgeQueue = Ring<Edge, 8>;
 
 /// The pin-change task's own state: the timer and pins it reads.
 pub struct RcEdges {
@@ -137,7 +137,7 @@ impl RemoteControl {
 #[inline(never)]
 pub fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
     let speed = pass.speed_raw();
-    for (i, &device) in DS_CONTROLLERS.iter().enumerate() {
+    for (i, device) in DS_CONTROLLERS_FLASH.as_slice().iter().enumerate() {
         send(RegWrite::word(device, id::REGDS_DRIVE_REQSPEED, speed));
         if let Some(raw) = pass.steer_raw(i + 1) {
             send(RegWrite::word(device, id::REGDS_STEER_REQPOS, raw));

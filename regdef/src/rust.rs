@@ -51,9 +51,10 @@ fn byte_list(bytes: impl Iterator<Item = u8>) -> String {
 }
 
 /// Rust source for the tables. It expects `Range` and `Register` (the `shared::regs`
-/// types) in scope and defines, for every block `B`: `B` (the full table, base block
-/// first, index == id), `B_FLAGS` (flag bytes) and `B_RANGE_INDEX` (index into
-/// `RANGES`, or `NO_RANGE`), plus `RANGES` and `NO_RANGE`.
+/// types) in scope and `crate::flash_table!` (shared's), and defines, for every block
+/// `B`: `B` (the full table, base block first, index == id), `B_FLAGS` (flag bytes),
+/// `B_FLAGS_FLASH` (the same bytes, kept in flash on the AVR) and `B_RANGE_INDEX` (index
+/// into `RANGES`, or `NO_RANGE`), plus `RANGES` and `NO_RANGE`.
 pub fn generate_tables(def: &Definition) -> String {
     let ranges = distinct_ranges(def);
     let mut out = String::from(HEADER);
@@ -105,6 +106,15 @@ pub fn generate_tables(def: &Definition) -> String {
             out,
             "pub const {name}_FLAGS: [u8; {n}] = [{}];",
             byte_list(table.iter().map(|e| e.flag_byte()))
+        );
+        let _ = writeln!(out, "crate::flash_table! {{");
+        let _ = writeln!(
+            out,
+            "    /// [`{name}_FLAGS`] kept in flash on the AVR (read with `Flash::get`)."
+        );
+        let _ = writeln!(
+            out,
+            "    pub static {name}_FLAGS_FLASH: [u8; {n}] = {name}_FLAGS;\n}}"
         );
         let _ = writeln!(
             out,
@@ -171,6 +181,10 @@ block SUB extends BASE
         assert!(src.contains("pub const BASE_FLAGS: [u8; 2] = [65, 2];"));
         assert!(src.contains("pub const SUB_FLAGS: [u8; 4] = [65, 2, 66, 1];"));
         assert!(src.contains("pub const SUB_RANGE_INDEX: [u8; 4] = [255, 0, 0, 1];"));
+        assert!(src.contains(
+            "crate::flash_table! {\n    /// [`SUB_FLAGS`] kept in flash on the AVR (read with \
+             `Flash::get`).\n    pub static SUB_FLAGS_FLASH: [u8; 4] = SUB_FLAGS;\n}\n"
+        ));
     }
 
     #[test]

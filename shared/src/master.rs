@@ -7,12 +7,13 @@
 //! Also the master's other decisions: the schedule of slave traffic (boot resets, ping,
 //! exception spreading, silent-slave detection) in [`ping`], the temperature sensors in
 //! [`temperature`], remote control in [`rc`] and the PC link's inter-byte timeout in
-//! [`timeout`].
+//! [`timeout`]; the interrupt queues' FIFO in [`ring`].
 
 mod error;
 mod local;
 pub mod ping;
 pub mod rc;
+pub mod ring;
 mod service;
 pub mod temperature;
 pub mod timeout;
@@ -21,6 +22,7 @@ pub use error::{LinkError, ERROR_REPLY_FLAG};
 pub use local::LocalRegisters;
 pub use ping::{Action, Outcome, RegWrite, Schedule};
 pub use rc::Remote;
+pub use ring::Ring;
 pub use service::{BusError, Service, SlaveBus};
 pub use timeout::InterByteTimeout;
 

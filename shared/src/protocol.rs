@@ -9,6 +9,7 @@ mod error;
 mod parser;
 mod read_sets;
 mod reply;
+pub(crate) mod sizes;
 
 pub use encode::{encode_read, encode_set_read_set, encode_write};
 pub use error::{DecodeError, EncodeError, FrameError};

@@ -88,6 +88,8 @@ mod tables {
 }
 
 pub use tables::{COMMON, DS, LL, MASTER};
+/// The flag tables as the AVR keeps them in flash (for firmware that reads them there).
+pub use tables::{DS_FLAGS_FLASH, LL_FLAGS_FLASH, MASTER_FLAGS_FLASH};
 
 /// One constant per register symbol, holding its id (generated from `registers.def`).
 pub mod id {

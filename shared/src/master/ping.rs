@@ -245,6 +245,8 @@ impl Schedule {
 
     /// Reports whether a slave answered an access at `now_ms` that the schedule did not
     /// ask for (the PC frames the master relays), as evidence of its liveness.
+    // Out of line: PC frames and the remote control's writes both report (one copy).
+    #[inline(never)]
     pub fn observe(&mut self, device: u8, answered: bool, now_ms: u32, latch: &mut MasterLatch) {
         if self.started {
             self.evidence(device, answered, now_ms, latch);

@@ -62,10 +62,11 @@ impl Pass {
     /// The pass's twelve writes: for wheels 1..6 in order, REQSPEED then STEER_REQPOS on
     /// the wheel's drive/steer board.
     pub fn writes(&self) -> impl Iterator<Item = RegWrite> + '_ {
-        DS_CONTROLLERS
+        setup::DS_CONTROLLERS_FLASH
+            .as_slice()
             .iter()
             .enumerate()
-            .flat_map(move |(i, &device)| {
+            .flat_map(move |(i, device)| {
                 let speed = RegWrite::word(device, id::REGDS_DRIVE_REQSPEED, self.speed_raw());
                 let steer = self
                     .steer_raw(i + 1)
@@ -125,6 +126,8 @@ impl Remote {
     /// Whether the link is up at `now_us`: an edge was seen less than 1 s ago. Call it
     /// every pass: an edge older than 1 s is forgotten, so the µs clock's wrap (every
     /// 71.6 min) cannot bring a dead link back.
+    // Out of line: three callers here and the firmware's (one copy).
+    #[inline(never)]
     pub fn link_up(&mut self, now_us: u32) -> bool {
         match self.last_edge_us {
             Some(t) if now_us.wrapping_sub(t) < LINK_TIMEOUT_US => true,

@@ -1,8 +1,8 @@
 //! What the master does with each frame, and what it answers (docs/protocol.md).
 
 use super::{LinkError, LocalRegisters};
+use crate::protocol::sizes::Sizes;
 use crate::protocol::{Frame, FrameError, ReadSets, Rejected, Write};
-use crate::regs::BoardKind;
 
 /// The slave answered nothing (no ACK, or no data).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -27,12 +27,13 @@ pub trait SlaveBus {
 /// Byte a register the device does not have reads as (the manual's dummy byte).
 pub const MISSING_REGISTER_BYTE: u8 = 0xcd;
 
-/// The master's frame logic and the state it keeps: the read sets and device 0.
+/// The master's frame logic and device 0. The read sets are kept apart ([`ReadSets`],
+/// passed to [`Service::execute`]): they start as zeros, so the firmware's copy costs no
+/// flash for its initial value, where device 0's registers start with set values.
 #[derive(Clone, Debug, Default)]
 pub struct Service {
     /// Device 0's registers.
     pub local: LocalRegisters,
-    sets: ReadSets,
 }
 
 impl Service {
@@ -40,17 +41,17 @@ impl Service {
     pub const fn new() -> Self {
         Service {
             local: LocalRegisters::new(),
-            sets: ReadSets::new(),
         }
     }
 
-    /// Executes one frame as the parser delivered it and sends the answer through
-    /// `reply`. A failed frame whose command answers with one byte (write, set read set)
+    /// Executes one frame as the parser delivered it, with the read sets `sets`, and
+    /// sends the answer through `reply`. A failed frame whose command answers with one byte (write, set read set)
     /// gets an error reply (`0x80 | code`); a failed read or unknown command gets no
     /// reply, since no reply could be told apart from data. Every error is recorded in
     /// device 0.
     pub fn execute(
         &mut self,
+        sets: &mut ReadSets,
         frame: Result<Frame<'_>, Rejected>,
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
@@ -61,8 +62,8 @@ impl Service {
         };
         let result = match frame {
             Ok(Frame::Write { device, writes }) => self.write(device, writes, bus, reply),
-            Ok(Frame::Read { device, set }) => self.read(device, set, bus, reply),
-            Ok(Frame::SetReadSet { set, ids, .. }) => match self.sets.set(set, ids) {
+            Ok(Frame::Read { device, set }) => self.read(sets, device, set, bus, reply),
+            Ok(Frame::SetReadSet { set, ids, .. }) => match sets.set(set, ids) {
                 Ok(()) => {
                     // At most 24 ids, so the count fits a byte.
                     reply(ids.len() as u8);
@@ -97,7 +98,7 @@ impl Service {
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
-        let kind = BoardKind::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
+        let kind = Sizes::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
         for w in writes.clone() {
             match kind.is_writable(w.id) {
                 Some(true) => {}
@@ -125,14 +126,14 @@ impl Service {
     /// that stops answering ends the reply early.
     fn read(
         &mut self,
+        sets: &ReadSets,
         device: u8,
         set: u8,
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
-        let kind = BoardKind::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
-        let ids = self
-            .sets
+        let kind = Sizes::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
+        let ids = sets
             .get(set)
             .ok_or(LinkError::Frame(FrameError::BadReadSet))?;
         if ids.is_empty() {
@@ -170,7 +171,7 @@ impl Service {
 
 /// The run at the start of `ids`: how many ids follow each other (n, n+1, …) and exist on
 /// the board, and their total size in bytes.
-fn run_of(kind: BoardKind, ids: &[u8]) -> (usize, u8) {
+fn run_of(kind: Sizes, ids: &[u8]) -> (usize, u8) {
     let mut count = 0;
     let mut bytes = 0u8;
     for (i, &id) in ids.iter().enumerate() {

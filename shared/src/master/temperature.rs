@@ -49,6 +49,11 @@ pub const FAMILY_DS18S20: u8 = 0x10;
 pub const SENSOR_ROM_BYTE1: [u8; SENSORS] =
     [0x9c, 0x20, 0x51, 0xa8, 0x89, 0x2f, 0xb1, 0xb5, 0x6f, 0x9e];
 
+crate::flash_table! {
+    /// [`SENSOR_ROM_BYTE1`] as the firmware reads it, kept in flash on the AVR.
+    pub static SENSOR_ROM_BYTE1_FLASH: [u8; SENSORS] = SENSOR_ROM_BYTE1;
+}
+
 /// Length of a DS18S20 scratchpad, CRC included.
 pub const SCRATCHPAD_LEN: usize = 9;
 

@@ -41,13 +41,31 @@ impl SlaveBus for FakeBus {
     }
 }
 
-/// Feeds `bytes` through a parser into `service`; returns every reply byte.
-fn run(service: &mut Service, bus: &mut FakeBus, bytes: &[u8]) -> Vec<u8> {
+/// The frame logic with its read sets, as the firmware keeps them.
+#[derive(Default)]
+struct Master {
+    service: Service,
+    sets: crate::protocol::ReadSets,
+}
+
+impl core::ops::Deref for Master {
+    type Target = Service;
+
+    fn deref(&self) -> &Service {
+        &self.service
+    }
+}
+
+/// Feeds `bytes` through a parser into `master`; returns every reply byte.
+fn run(master: &mut Master, bus: &mut FakeBus, bytes: &[u8]) -> Vec<u8> {
     let mut parser = Parser::new();
     let mut out = Vec::new();
     for &b in bytes {
         if let Some(frame) = parser.push_frame(b) {
-            service.execute(frame, bus, &mut |r| out.push(r));
+            let sets = &mut master.sets;
+            master
+                .service
+                .execute(sets, frame, bus, &mut |r| out.push(r));
         }
     }
     out
@@ -59,7 +77,7 @@ fn exception_data(service: &Service) -> Option<u16> {
 
 #[test]
 fn master_reset_write_clears_the_boot_exception_and_answers_00() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(exception_data(&s), Some(0x0002));
     assert_eq!(
         run(&mut s, &mut bus, &[0x05, 0x02, 0x01, 0x00, 0x01]),
@@ -72,7 +90,7 @@ fn master_reset_write_clears_the_boot_exception_and_answers_00() {
 
 #[test]
 fn library_set_2_then_read_gives_22_bytes_of_master_state() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     let set2 = [0x0e, 0x04, 0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11];
     assert_eq!(run(&mut s, &mut bus, &set2), [0x0b]);
     let reply = run(&mut s, &mut bus, &[0x03, 0x03, 0x02]);
@@ -86,7 +104,7 @@ fn library_set_2_then_read_gives_22_bytes_of_master_state() {
 
 #[test]
 fn write_to_a_read_only_register_changes_nothing_and_says_why() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     // REGMASTER_RESET (ok) and TEMP1 (read-only) in one frame: neither is applied.
     let frame = [0x08, 0x02, 0x02, 0x00, 0x01, 0x02, 0x00, 0x00];
     assert_eq!(run(&mut s, &mut bus, &frame), [0x80 | 9]);
@@ -101,7 +119,7 @@ fn write_to_a_read_only_register_changes_nothing_and_says_why() {
 
 #[test]
 fn slave_writes_are_relayed_in_order_with_their_sizes() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     // Wheel 1 drive 1000 (reference §4.5), then a 1-byte write (DEADZONE 25 = 0x05).
     assert_eq!(
         run(&mut s, &mut bus, &[0x06, 0x12, 0x01, 0x09, 0xfe, 0x9f]),
@@ -116,7 +134,7 @@ fn slave_writes_are_relayed_in_order_with_their_sizes() {
 
 #[test]
 fn slave_reads_follow_the_set_and_the_board_table() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     // Set 1 of the library (LL): 18 ids, 36 bytes.
     let set1 = [
         0x15, 0x34, 0x01, 1, 2, 3, 5, 16, 17, 18, 19, 20, 21, 22, 34, 35, 36, 37, 38, 39, 40,
@@ -134,7 +152,7 @@ fn slave_reads_follow_the_set_and_the_board_table() {
 
 #[test]
 fn library_set_0_on_a_drive_board_is_five_runs_of_mixed_sizes() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     let set0 = [
         0x17, 0x14, 0x00, 1, 2, 3, 5, 44, 16, 17, 18, 19, 20, 21, 22, 23, 33, 34, 35, 36, 37, 38,
         39,
@@ -149,7 +167,7 @@ fn library_set_0_on_a_drive_board_is_five_runs_of_mixed_sizes() {
 
 #[test]
 fn a_run_stops_at_a_one_byte_gap_in_sizes_correctly() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     // LL ids 22 (2 bytes), 23, 24, 25, 26 (1 byte each): one run of 6 bytes.
     assert_eq!(
         run(&mut s, &mut bus, &[0x08, 0x34, 0x04, 22, 23, 24, 25, 26]),
@@ -161,7 +179,7 @@ fn a_run_stops_at_a_one_byte_gap_in_sizes_correctly() {
 
 #[test]
 fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(
         run(&mut s, &mut bus, &[0x05, 0xa2, 0x01, 0x00, 0x01]),
         [0x82]
@@ -174,7 +192,7 @@ fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
 
 #[test]
 fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(run(&mut s, &mut bus, &[0x03, 0x15, 0x00]), [0u8; 0]);
     assert_eq!(
         s.local.last_error(),
@@ -193,7 +211,7 @@ fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write()
 
 #[test]
 fn empty_set_and_missing_registers() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(run(&mut s, &mut bus, &[0x03, 0x03, 0x05]), [0u8; 0]);
     assert_eq!(s.local.last_error(), Some(LinkError::EmptyReadSet));
     // Set 6 = [EXCEPTIONDATA, 14 (no such register), LASTERROR].
@@ -205,7 +223,7 @@ fn empty_set_and_missing_registers() {
 
 #[test]
 fn oversize_set_gets_an_error_reply_that_no_count_can_equal() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     let mut frame = vec![28, 0x04, 0x03];
     frame.extend(0..25u8);
     assert_eq!(run(&mut s, &mut bus, &frame), [0x87]);
@@ -218,7 +236,7 @@ fn oversize_set_gets_an_error_reply_that_no_count_can_equal() {
 
 #[test]
 fn a_silent_slave_is_reported_and_the_master_keeps_answering() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     bus.silent.push(4);
     assert_eq!(
         run(&mut s, &mut bus, &[0x06, 0x42, 0x01, 0x09, 0xfe, 0x9f]),
@@ -233,7 +251,7 @@ fn a_silent_slave_is_reported_and_the_master_keeps_answering() {
 
 #[test]
 fn garbage_then_abort_then_a_valid_frame_is_answered() {
-    let (mut s, mut bus) = (Service::new(), FakeBus::default());
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
     let mut parser = Parser::new();
     let mut out = Vec::new();
     for &b in &[0x40u8, 0x99, 0x12, 0x00] {
@@ -243,10 +261,12 @@ fn garbage_then_abort_then_a_valid_frame_is_answered() {
         parser.abort(),
         "the inter-byte timeout drops the partial frame"
     );
-    s.link_error(LinkError::Frame(FrameError::Truncated));
+    s.service
+        .link_error(LinkError::Frame(FrameError::Truncated));
     for &b in &[0x05u8, 0x02, 0x01, 0x00, 0x01] {
         if let Some(f) = parser.push_frame(b) {
-            s.execute(f, &mut bus, &mut |r| out.push(r));
+            s.service
+                .execute(&mut s.sets, f, &mut bus, &mut |r| out.push(r));
         }
     }
     assert_eq!(out, [0]);

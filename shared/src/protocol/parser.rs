@@ -5,7 +5,6 @@
 use super::{Command, Frame, FrameError, Rejected, Request, SizeOf, Writes};
 use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
-use crate::regs::BoardKind;
 
 /// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
 #[derive(Clone, Debug)]
@@ -87,7 +86,7 @@ impl Parser {
 
 /// A register's size on the boards of the real rover.
 fn board_size_of(device: u8, id: u8) -> Option<u8> {
-    BoardKind::of_device(device).and_then(|kind| kind.size_of(id))
+    super::sizes::Sizes::of_device(device).and_then(|sizes| sizes.size_of(id))
 }
 
 /// Validates a complete frame. `size_of(device, id)` gives a register's size in bytes.

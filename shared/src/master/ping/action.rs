@@ -1,6 +1,6 @@
 //! What the schedule asks the firmware to do, and what the firmware reports back.
 
-use crate::regs::BoardKind;
+use crate::protocol::sizes::Sizes;
 
 /// One register write to a board: the id, then its value bytes, LSB first.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -38,7 +38,7 @@ impl RegWrite {
     /// A write of `raw`, sized by the device's table; `None` if the device or the id
     /// does not exist.
     pub fn sized(device: u8, id: u8, raw: u16) -> Option<Self> {
-        match BoardKind::of_device(device)?.size_of(id)? {
+        match Sizes::of_device(device)?.size_of(id)? {
             1 => Some(RegWrite::byte(device, id, raw as u8)),
             _ => Some(RegWrite::word(device, id, raw)),
         }

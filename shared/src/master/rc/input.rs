@@ -9,6 +9,11 @@ pub const CHANNELS: usize = 3;
 /// steer channels run backwards (mn > mx).
 pub const CALIBRATION: [(u16, u16); CHANNELS] = [(1940, 1000), (1738, 940), (910, 1800)];
 
+crate::flash_table! {
+    /// [`CALIBRATION`] as [`normalise`] reads it, kept in flash on the AVR.
+    static CALIBRATION_FLASH: [(u16, u16); CHANNELS] = CALIBRATION;
+}
+
 /// |value| below this (0.1) reads as 0.
 pub const INPUT_DEADBAND: i16 = 100;
 
@@ -16,7 +21,7 @@ pub const INPUT_DEADBAND: i16 = 100;
 /// clamp((w − mn)·2/(mx − mn), 0, 2) − 1, then |value| < 0.1 → 0. `None` for a channel
 /// number above 2.
 pub fn normalise(channel: usize, width_us: u16) -> Option<i16> {
-    let (mn, mx) = CALIBRATION.get(channel).copied()?;
+    let (mn, mx) = CALIBRATION_FLASH.get(channel)?;
     let span = i32::from(mx) - i32::from(mn);
     // |w − mn| ≤ 65535, so the product fits an i32; span is never 0.
     let scaled = (i32::from(width_us) - i32::from(mn)) * 2000 / span;

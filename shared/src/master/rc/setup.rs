@@ -45,6 +45,26 @@ pub const STEER_CALIBRATION: [(u8, u8); 6] = [
     (0x3d, 0xbe),
 ];
 
+crate::flash_table! {
+    /// [`DS_CONTROLLERS`] as the firmware reads it, kept in flash on the AVR.
+    pub static DS_CONTROLLERS_FLASH: [u8; 6] = DS_CONTROLLERS;
+}
+
+crate::flash_table! {
+    /// [`DRIVE_BLOCK`], kept in flash on the AVR.
+    static DRIVE_BLOCK_FLASH: [(u8, u16); 7] = DRIVE_BLOCK;
+}
+
+crate::flash_table! {
+    /// [`STEER_BLOCK`], kept in flash on the AVR.
+    static STEER_BLOCK_FLASH: [(u8, u16); 8] = STEER_BLOCK;
+}
+
+crate::flash_table! {
+    /// [`STEER_CALIBRATION`], kept in flash on the AVR.
+    static STEER_CALIBRATION_FLASH: [(u8, u8); 6] = STEER_CALIBRATION;
+}
+
 /// Writes per drive/steer board: the drive block, the steer block, CALIBMIN, CALIBMAX.
 const PER_BOARD: usize = DRIVE_BLOCK.len() + STEER_BLOCK.len() + 2;
 /// REG_RESET writes to devices 0..9.
@@ -74,14 +94,14 @@ fn link_up_write(n: usize) -> Option<RegWrite> {
     }
     let k = n - RESETS;
     let wheel = k / PER_BOARD;
-    let device = *DS_CONTROLLERS.get(wheel)?;
+    let device = DS_CONTROLLERS_FLASH.get(wheel)?;
     let item = k % PER_BOARD;
-    let (reg, raw) = if let Some(&w) = DRIVE_BLOCK.get(item) {
+    let (reg, raw) = if let Some(w) = DRIVE_BLOCK_FLASH.get(item) {
         w
-    } else if let Some(&w) = STEER_BLOCK.get(item - DRIVE_BLOCK.len()) {
+    } else if let Some(w) = STEER_BLOCK_FLASH.get(item - DRIVE_BLOCK.len()) {
         w
     } else {
-        let (min, max) = *STEER_CALIBRATION.get(wheel)?;
+        let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
         if item == PER_BOARD - 2 {
             (id::REGDS_STEER_CALIBMIN, u16::from(min))
         } else {

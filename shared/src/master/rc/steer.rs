@@ -7,6 +7,8 @@
 //! interpolation in Q15 (2¹⁵ = 1.0); the result is within 0.012° of the f64 formula
 //! (checked on the host for every centidegree up to 45°).
 
+use crate::progmem::Flash;
+
 /// Limit of the steer integrator: ±30° in µdeg.
 pub const STEER_LIMIT_UDEG: i32 = 30_000_000;
 /// Below this outer angle (5°, in cdeg) the inner wheel takes the outer angle.
@@ -34,27 +36,47 @@ const ATAN_CDEG: [u16; 33] = [
     2798, 2936, 3070, 3201, 3327, 3451, 3571, 3687, 3800, 3909, 4016, 4119, 4218, 4315, 4409, 4500,
 ];
 
+crate::flash_table! {
+    /// [`TAN_Q15`] as the maths reads it, kept in flash on the AVR.
+    static TAN_Q15_FLASH: [u16; 46] = TAN_Q15;
+}
+
+crate::flash_table! {
+    /// [`ATAN_CDEG`] as the maths reads it, kept in flash on the AVR.
+    static ATAN_CDEG_FLASH: [u16; 33] = ATAN_CDEG;
+}
+
 /// The tables, for the host test that checks them against f64.
 pub fn tables() -> (&'static [u16; 46], &'static [u16; 33]) {
     (&TAN_Q15, &ATAN_CDEG)
 }
 
 /// Linear interpolation between `table[index]` and `table[index + 1]` at `frac / step`.
-fn lerp(table: &[u16], index: usize, frac: u32, step: u32) -> u32 {
-    let a = table.get(index).copied().map_or(0, u32::from);
-    let b = table.get(index + 1).copied().map_or(a, u32::from);
+fn lerp(table: &'static Flash<[u16]>, index: usize, frac: u32, step: u32) -> u32 {
+    let a = table.get(index).map_or(0, u32::from);
+    let b = table.get(index + 1).map_or(a, u32::from);
     // Tables rise monotonically, so b ≥ a; round to nearest.
     a + ((b - a) * frac + step / 2) / step
 }
 
 /// tan of `cdeg` (0..=4500) in Q15.
 fn tan_q15(cdeg: u32) -> u32 {
-    lerp(&TAN_Q15, (cdeg / 100) as usize, cdeg % 100, 100)
+    lerp(
+        TAN_Q15_FLASH.as_slice(),
+        (cdeg / 100) as usize,
+        cdeg % 100,
+        100,
+    )
 }
 
 /// atan of `t` (Q15, 0..=1.0) in cdeg.
 fn atan_cdeg(t: u32) -> u32 {
-    lerp(&ATAN_CDEG, (t / 1024) as usize, t % 1024, 1024)
+    lerp(
+        ATAN_CDEG_FLASH.as_slice(),
+        (t / 1024) as usize,
+        t % 1024,
+        1024,
+    )
 }
 
 /// One step of the steer integrator: s := clamp(s − 0.03°·steer, −30°, +30°), with s in

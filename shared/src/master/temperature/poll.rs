@@ -6,7 +6,7 @@
 //! sensor i + 1, wrapping to 0 when i + 1 = D, so sensor ids ≥ D are never read (as in the
 //! original) and each sensor is refreshed every 2·D s.
 
-use super::{Rom, SENSORS, SENSOR_ROM_BYTE1};
+use super::{Rom, SENSORS, SENSOR_ROM_BYTE1_FLASH};
 use crate::exception::{ExceptionType, MasterException};
 
 /// The devices the start-up search found (at most ten; later ones are ignored).
@@ -57,7 +57,7 @@ impl Sensors {
     /// The ROM of sensor `sensor` (0 = ambient, n = controller n), if a device with its
     /// ROM byte 1 was found.
     pub fn locate(&self, sensor: u8) -> Option<Rom> {
-        let byte1 = *SENSOR_ROM_BYTE1.get(usize::from(sensor))?;
+        let byte1 = SENSOR_ROM_BYTE1_FLASH.get(usize::from(sensor))?;
         self.roms().iter().find(|rom| rom[1] == byte1).copied()
     }
 }
