@@ -79,6 +79,9 @@ impl Shared {
     }
 }
 
+/// What [`Avr::set_observer`] calls after every instruction.
+type Observer = Box<dyn FnMut(&mut Avr)>;
+
 /// One emulated ATmega328P at 16 MHz running a firmware image.
 ///
 /// Time is emulated: sleeping and waiting for UART data cost no real time.
@@ -93,6 +96,9 @@ pub struct Avr {
     deadline_at: Option<(u64, u64)>,
     /// The ADC's input IRQs (ADC0..ADC7 in a row), looked up once.
     pub(crate) adc_inputs: Option<NonNull<ffi::avr_irq_t>>,
+    /// Called after every instruction of [`Avr::run_cycles`] while set (see
+    /// [`Avr::set_observer`]).
+    observer: Option<Observer>,
     /// Records behind the hardware-fidelity hooks ([`crate::fidelity`]); they must outlive
     /// the core, which `Drop` terminates before the fields are dropped.
     // Boxed so each record keeps its address (simavr holds it) when the Vec grows.
@@ -214,6 +220,7 @@ impl Avr {
             state: CpuState::Running,
             deadline_at: None,
             adc_inputs: None,
+            observer: None,
             _fidelity: Vec::new(),
         };
         avr._fidelity = crate::fidelity::install(avr.raw.as_ptr());
@@ -320,7 +327,25 @@ impl Avr {
     /// Sleep is fast-forwarded: a sleeping CPU jumps to its next timer event.
     pub fn run_cycles(&mut self, n: u64) {
         let target = self.cycles().saturating_add(n);
-        self.run_to_target(target);
+        if self.observer.is_some() {
+            self.run_to(target, |_| false);
+        } else {
+            self.run_to_target(target);
+        }
+    }
+
+    /// Calls `observe` after every instruction (or sleep jump) that [`Avr::run_cycles`],
+    /// [`Avr::run_until`] or a bus delivering an I2C event run from now on, also when a
+    /// bus or a plant runs this chip: for cycle profiles of code that only runs under bus
+    /// traffic. The runs take the slower stepping path while
+    /// it is set. [`Avr::clear_observer`] removes it.
+    pub fn set_observer(&mut self, observe: impl FnMut(&mut Avr) + 'static) {
+        self.observer = Some(Box::new(observe));
+    }
+
+    /// Removes the observer set by [`Avr::set_observer`].
+    pub fn clear_observer(&mut self) {
+        self.observer = None;
     }
 
     /// Runs for `us` emulated microseconds (see [`Avr::run_cycles`]).
@@ -343,17 +368,25 @@ impl Avr {
     /// Steps until `cycles() >= target`, the CPU halts or `stop` says so. Returns
     /// whether `stop` ended the run.
     pub(crate) fn run_to(&mut self, target: u64, mut stop: impl FnMut(&mut Avr) -> bool) -> bool {
-        loop {
+        let mut observer = self.observer.take();
+        let stopped = loop {
             let now = self.cycles();
             if now >= target || self.state.is_halted() {
-                return false;
+                break false;
             }
             self.arm_deadline(now, target);
             self.step_raw();
-            if stop(self) {
-                return true;
+            if let Some(observe) = observer.as_mut() {
+                observe(self);
             }
+            if stop(self) {
+                break true;
+            }
+        };
+        if self.observer.is_none() {
+            self.observer = observer;
         }
+        stopped
     }
 
     /// [`Avr::run_to`] with nothing to check between steps: the lock-stepped bus's inner

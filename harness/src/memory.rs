@@ -78,6 +78,14 @@ impl Avr {
         }
     }
 
+    /// The first ELF symbol whose name contains `part`, with its address as
+    /// [`Avr::symbol`] gives it: for Rust's mangled names, whose hash changes with the
+    /// build (e.g. `panic_bounds_check`).
+    pub fn symbol_containing(&self, part: &str) -> Option<(String, u32)> {
+        let (name, _) = self.symbols.iter().find(|(n, _)| n.contains(part))?;
+        Some((name.clone(), self.symbol(name)?))
+    }
+
     /// The address of an ELF symbol. Data-space symbols come without the linker's
     /// 0x800000 offset, so the value can go straight to [`Avr::read_data`].
     pub fn symbol(&self, name: &str) -> Option<u32> {

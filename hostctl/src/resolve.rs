@@ -255,11 +255,12 @@ mod tests {
 
     #[test]
     fn numbers_beyond_the_table_are_refused() {
-        // The original 45 registers plus this project's 45 (FAULTTIME) and 46 (DRIVE_MODE).
-        let err = register(ds(), "47").unwrap_err();
+        // The original 45 registers plus this project's 45 (FAULTTIME), 46 (DRIVE_MODE)
+        // and 47 (BUSTIMEOUT).
+        let err = register(ds(), "48").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "device 1 (DS table) has registers 0..46; there is no register 47"
+            "device 1 (DS table) has registers 0..47; there is no register 48"
         );
         let err = register(device("0").unwrap(), "14").unwrap_err();
         assert_eq!(

@@ -468,7 +468,7 @@ fn unknown_and_misplaced_registers_are_refused() {
     );
     assert!(refused("write 1 REGLL_ONE_REQPOS 20").contains("address one of devices 3, 6, 9"));
     assert!(refused("read 0 45").contains("no register 45"));
-    assert!(refused("read 3 46").contains("no register 46"));
+    assert!(refused("read 3 47").contains("no register 47"));
     assert!(refused("readset 0 TIMER").contains("on the DS table, not on device 0"));
     assert!(refused("watch --readset 2 --device 3 DRIVE_ACTUALSPEED").contains("not on device 3"));
     assert!(refused("watch --readset 0 REGLL_ONE_ACTUALPOS").contains("not on device 1"));

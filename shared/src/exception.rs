@@ -25,6 +25,9 @@ pub enum ExceptionType {
     SensorMissing = 10,
     /// Master: a slave stopped answering on the I2C bus (new in this project).
     SlaveSilent = 11,
+    /// Slave: armed by a ping, it heard no bus transaction for BUSTIMEOUT ms (the master
+    /// or the cable is gone); new in this project, motor 5 (none).
+    BusSilent = 12,
 }
 
 impl ExceptionType {
@@ -47,6 +50,7 @@ impl ExceptionType {
             8 => ShortOc,
             10 => SensorMissing,
             11 => SlaveSilent,
+            12 => BusSilent,
             _ => return None,
         })
     }
@@ -65,6 +69,7 @@ impl ExceptionType {
             ShortOc => "short (overcurrent at low duty)",
             SensorMissing => "temperature sensor missing",
             SlaveSilent => "slave not answering",
+            BusSilent => "master silent (slave heard no bus traffic)",
         }
     }
 
@@ -187,5 +192,8 @@ mod tests {
         assert!(!ExceptionType::RemoteSlave.spreads());
         assert!(ExceptionType::Overcurrent.spreads());
         assert!(ExceptionType::ShortOc.spreads());
+        assert_eq!(ExceptionType::from_code(12), Some(ExceptionType::BusSilent));
+        assert!(ExceptionType::BusSilent.spreads());
+        assert_eq!(ExceptionType::from_code(13), None);
     }
 }

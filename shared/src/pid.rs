@@ -15,6 +15,7 @@
 //! (±32768) where the original's float would keep growing: a difference no working
 //! program can see, since the duty saturates at 255 long before.
 
+use crate::slave::product::wide;
 use fixed::types::I16F16;
 
 /// The fixed-point number type of the slave's control maths: 16 integer bits
@@ -23,23 +24,32 @@ pub type Fix = I16F16;
 
 /// `a·b`, saturating at the `I16F16` limits and truncating toward zero.
 ///
-/// Four 16×16→32-bit products instead of the 64-bit multiplication a widening multiply
-/// needs: on the AVR this takes some 600 cycles, a 64-bit multiply more. A zero operand
-/// returns at once.
-#[inline(never)]
+/// A zero operand (a zero integral or error, the usual case at rest) returns at once,
+/// tested inline so that it costs no call. Otherwise four 16×16→32-bit products (see
+/// [`wide`]) instead of the 64-bit multiplication a widening multiply needs.
+#[inline(always)]
 pub fn mul(a: Fix, b: Fix) -> Fix {
-    let (a, b) = (a.to_bits(), b.to_bits());
-    if a == 0 || b == 0 {
+    if a == Fix::ZERO || b == Fix::ZERO {
         return Fix::ZERO;
     }
+    mul_nonzero(a, b)
+}
+
+#[inline(never)]
+fn mul_nonzero(a: Fix, b: Fix) -> Fix {
+    let (a, b) = (a.to_bits(), b.to_bits());
     let negative = (a ^ b) < 0;
     let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    // The smaller magnitude second: b < 1 (a decay, most integrals) is the usual case.
+    let (ua, ub) = if ub >> 16 == 0 { (ua, ub) } else { (ub, ua) };
     let (ah, al) = ((ua >> 16) as u16, ua as u16);
     let (bh, bl) = ((ub >> 16) as u16, ub as u16);
-    let wide = |x: u16, y: u16| u32::from(x) * u32::from(y);
     // |a·b| in 16.16 = ah·bh·2^16 + ah·bl + al·bh + al·bl/2^16, with ah, bh ≤ 2^15.
     let high = wide(ah, bh);
-    let magnitude = if high > 0x7fff {
+    let magnitude = if bh == 0 {
+        // |b| < 1: ah·bl + al·bl/2^16 ≤ 2^15·(2^16 − 1) + 2^16 − 1 < 2^32, no overflow.
+        Some(wide(ah, bl) + (wide(al, bl) >> 16))
+    } else if high > 0x7fff {
         None
     } else {
         (high << 16)
@@ -58,6 +68,27 @@ pub fn mul(a: Fix, b: Fix) -> Fix {
     } else {
         magnitude as i32
     })
+}
+
+/// Saturating addition and subtraction, one copy each: the `fixed` crate's are inlined
+/// at every use, some 40 bytes each on the AVR.
+trait Saturating {
+    /// `self + other`, saturating.
+    fn add_sat(self, other: Self) -> Self;
+    /// `self − other`, saturating.
+    fn sub_sat(self, other: Self) -> Self;
+}
+
+impl Saturating for Fix {
+    #[inline(never)]
+    fn add_sat(self, other: Fix) -> Fix {
+        self.saturating_add(other)
+    }
+
+    #[inline(never)]
+    fn sub_sat(self, other: Fix) -> Fix {
+        self.saturating_sub(other)
+    }
 }
 
 /// The speed form bleeds its output by this factor per update while |r| < 0.001.
@@ -152,6 +183,30 @@ pub struct Step {
     pub duty: Duty,
 }
 
+impl Step {
+    /// A position update at rest: every term and the output 0, duty 0 forward.
+    ///
+    /// A position update that returns it leaves the controller at I = 0 with the
+    /// measurement taken, and implies cap ≥ 0 (a negative cap clamps I to the cap), so
+    /// another update with the same gains, demand and measurement returns it again and
+    /// changes nothing.
+    pub const REST: Step = Step {
+        error: Fix::ZERO,
+        integral: Fix::ZERO,
+        deriv: Fix::ZERO,
+        control: Fix::ZERO,
+        duty: Duty::IDLE,
+    };
+
+    /// Whether every term and the output are 0 (see [`Step::REST`]).
+    pub fn is_rest(&self) -> bool {
+        self.error == Fix::ZERO
+            && self.integral == Fix::ZERO
+            && self.deriv == Fix::ZERO
+            && self.control == Fix::ZERO
+    }
+}
+
 /// The state of one PID controller between updates.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Pid {
@@ -177,8 +232,22 @@ impl Pid {
     }
 
     /// One update of the position form: u = P·e + Ki·I + Kd·D.
+    ///
+    /// At rest (e = 0 after the dead zone, I = 0, the measurement unchanged, cap ≥ 0:
+    /// a motor holding its angle, the usual case) every term is 0 and stays 0, so the
+    /// update returns [`Step::REST`] without the integral and derivative arithmetic;
+    /// the result is the same as the full update's (tested).
     pub fn position(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
-        let (error, integral, deriv) = self.terms(gains, required, actual);
+        let error = dead_zoned(gains, required, actual);
+        if error == Fix::ZERO
+            && self.integral == Fix::ZERO
+            && self.prev_actual == actual
+            && gains.cap >= Fix::ZERO
+        {
+            self.control = Fix::ZERO;
+            return Step::REST;
+        }
+        let (integral, deriv) = self.terms(gains, error, actual);
         let control = sum_terms(gains, error, integral, deriv);
         self.control = control;
         step(error, integral, deriv, control)
@@ -187,10 +256,11 @@ impl Pid {
     /// One update of the incremental speed form: u = u_prev + P·e + Ki·I + Kd·D, then
     /// ×0.96 while |r| < 0.001.
     pub fn speed(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
-        let (error, integral, deriv) = self.terms(gains, required, actual);
+        let error = dead_zoned(gains, required, actual);
+        let (integral, deriv) = self.terms(gains, error, actual);
         let mut control = self
             .control
-            .saturating_add(sum_terms(gains, error, integral, deriv));
+            .add_sat(sum_terms(gains, error, integral, deriv));
         if required.saturating_abs() < NO_DEMAND {
             control = mul(control, BLEED);
         }
@@ -208,19 +278,31 @@ impl Pid {
         self.control
     }
 
-    fn terms(&mut self, gains: &Gains, required: Fix, actual: Fix) -> (Fix, Fix, Fix) {
-        let mut error = required.saturating_sub(actual);
-        if error != Fix::ZERO && error.saturating_abs() < gains.dead_zone {
-            error = Fix::ZERO;
-        }
-        let integral = self.integral.saturating_add(error);
+    /// The measurement of the last update.
+    pub fn last_actual(&self) -> Fix {
+        self.prev_actual
+    }
+
+    /// I and D for the error `error` (after the dead zone), updating the state.
+    fn terms(&mut self, gains: &Gains, error: Fix, actual: Fix) -> (Fix, Fix) {
+        let integral = self.integral.add_sat(error);
         let integral = mul(integral, gains.decay)
             .max(gains.cap.saturating_neg())
             .min(gains.cap);
         self.integral = integral;
-        let deriv = self.prev_actual.saturating_sub(actual);
+        let deriv = self.prev_actual.sub_sat(actual);
         self.prev_actual = actual;
-        (error, integral, deriv)
+        (integral, deriv)
+    }
+}
+
+/// e = r − a, 0 when 0 < |e| < dead zone.
+fn dead_zoned(gains: &Gains, required: Fix, actual: Fix) -> Fix {
+    let error = required.sub_sat(actual);
+    if error != Fix::ZERO && error.saturating_abs() < gains.dead_zone {
+        Fix::ZERO
+    } else {
+        error
     }
 }
 
@@ -234,8 +316,8 @@ fn sum_terms(gains: &Gains, error: Fix, integral: Fix, deriv: Fix) -> Fix {
         }
     };
     term(gains.p, error)
-        .saturating_add(term(gains.i, integral))
-        .saturating_add(term(gains.d, deriv))
+        .add_sat(term(gains.i, integral))
+        .add_sat(term(gains.d, deriv))
 }
 
 fn step(error: Fix, integral: Fix, deriv: Fix, control: Fix) -> Step {
@@ -295,6 +377,11 @@ mod tests {
             (-32768.0, 1.0, -32768.0),
             (-32768.0, -1.0, 32767.99998),
             (0.5, Fix::DELTA.to_num::<f64>(), 0.0),
+            (0.95, 300.0, 285.0),
+            (-0.95, -32768.0, 31129.5),
+            (0.99998, -32768.0, -32767.5),
+            (0.99998, 32767.99998, 32767.5),
+            (2.0, 0.0001, 0.0002),
         ];
         for (a, b, product) in cases {
             let got = mul(fix(a), fix(b)).to_num::<f64>();
@@ -306,13 +393,100 @@ mod tests {
         // Against the fixed crate's saturating multiply: equal up to the rounding of
         // the last bit (toward zero here, toward −∞ there).
         let values = [
-            -32768.0, -1000.5, -3.25, -0.001, 0.0, 0.0625, 1.0, 7.77, 255.0, 32767.0,
+            -32768.0, -1000.5, -3.25, -0.999, -0.001, 0.0, 0.0625, 0.5, 0.95, 1.0, 7.77, 255.0,
+            32767.0,
         ];
         for a in values {
             for b in values {
                 let (x, y) = (fix(a), fix(b));
                 let diff = mul(x, y).to_bits().abs_diff(x.saturating_mul(y).to_bits());
                 assert!(diff <= 1, "{a} × {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_rest_path_equals_the_full_update() {
+        let values = [-3.0, -0.5, -0.25, 0.0, 0.25, 0.5, 20.0];
+        let gains = |p: f64, cap: f64, dead_zone: f64| Gains {
+            p: fix(p),
+            i: fix(2.0),
+            d: fix(-1.5),
+            cap: fix(cap),
+            decay: fix(0.95),
+            dead_zone: fix(dead_zone),
+        };
+        let mut rests = 0;
+        for g in [
+            gains(0.0, 300.0, 0.5),
+            gains(3.0, 0.0, 0.0),
+            gains(1.0, -5.0, 1.0),
+        ] {
+            for prev in values {
+                for actual in values {
+                    for required in values {
+                        for integral in [0.0, 0.75] {
+                            let mut a = Pid {
+                                integral: fix(integral),
+                                prev_actual: fix(prev),
+                                control: fix(7.0),
+                            };
+                            let mut b = a;
+                            let (r, x) = (fix(required), fix(actual));
+                            let fast = a.position(&g, r, x);
+                            // The full update, as before the rest path existed.
+                            let error = dead_zoned(&g, r, x);
+                            let (i, d) = b.terms(&g, error, x);
+                            let control = sum_terms(&g, error, i, d);
+                            b.control = control;
+                            assert_eq!(fast, step(error, i, d, control));
+                            assert_eq!(a, b);
+                            rests += usize::from(fast == Step::REST);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(rests > 20, "the rest path was taken {rests} times");
+    }
+
+    #[test]
+    fn mul_is_the_truncated_saturated_product_bit_for_bit() {
+        // ⌊|a·b|/2^16⌋, saturated, with the sign of a·b: in 64 bits.
+        let reference = |a: i32, b: i32| {
+            let magnitude = (u64::from(a.unsigned_abs()) * u64::from(b.unsigned_abs())) >> 16;
+            let negative = (a ^ b) < 0 && magnitude != 0;
+            let limit = if negative {
+                1u64 << 31
+            } else {
+                (1u64 << 31) - 1
+            };
+            let m = magnitude.min(limit) as i64;
+            (if negative { -m } else { m }) as i32
+        };
+        let mut bits = vec![
+            0i32,
+            1,
+            -1,
+            0xffff,
+            -0xffff,
+            0x1_0000,
+            -0x1_0000,
+            i32::MAX,
+            i32::MIN,
+        ];
+        let mut x = 0x2545_f491u32;
+        for _ in 0..400 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            // Magnitudes of every size, from below 1/65536 to the limits.
+            bits.push((x as i32) >> (x % 31));
+        }
+        for &a in &bits {
+            for &b in &bits {
+                let got = mul(Fix::from_bits(a), Fix::from_bits(b)).to_bits();
+                assert_eq!(got, reference(a, b), "{a:#x} × {b:#x}");
             }
         }
     }

@@ -15,6 +15,7 @@
 //! | [`registers`] | the register file, its I2C semantics, change marks, power-up values |
 //! | [`scale`] | raw register values to fixed point and back |
 //! | [`state`] | the exception state machine |
+//! | [`silence`] | the bus-silence failsafe (new) |
 //! | [`current`] | current filter and overcurrent rule |
 //! | [`encoder`] | edge counting, speed measurement, odometer |
 //! | [`pot`] | pot readings to angles |
@@ -23,6 +24,7 @@
 //! | [`motor`] | one motor: parameters, controller, monitoring values |
 //! | [`clock`] | uptime and tick interval |
 //! | [`divide`] | the one small `u32` division all of them use |
+//! | [`product`] | the 16×16→32-bit product the per-tick arithmetic uses |
 //! | [`io`] | the tick's inputs and outputs |
 //! | `core` | [`Core`], which ties them together |
 
@@ -37,14 +39,17 @@ pub mod io;
 pub mod leds;
 pub mod motor;
 pub mod pot;
+pub mod product;
 pub mod registers;
 pub mod scale;
+pub mod silence;
 pub mod state;
 
 pub use self::core::{Core, POSITION_PERIOD_US, TICK_US};
-pub use board::{bus_address, MotorId, Variant};
+pub use board::{bus_address, Board, DriveSteerBoard, LiftLiftBoard, MotorId, Variant};
 pub use encoder::{DriveMode, EdgeCounter, EdgeSample};
 pub use io::{AdcChannel, AdcCollector, AdcSample, Inputs, MotorOutput, Outputs, Watchdog};
 pub use leds::LedLevels;
-pub use registers::RegisterFile;
+pub use registers::{Changes, RegisterFile};
+pub use silence::SilenceWatch;
 pub use state::{Cause, LocalFault, State};

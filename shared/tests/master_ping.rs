@@ -274,6 +274,20 @@ fn a_slave_exception_is_latched_and_spread_to_exactly_the_other_slaves() {
 }
 
 #[test]
+fn a_slave_silenced_by_its_bus_timeout_spreads_like_any_slave_fault() {
+    let (mut s, mut latch, mut rover) = booted();
+    for d in 1..=9 {
+        rover.slaves[d].status &= !1;
+    }
+    rover.slaves[7].raise(12, 5); // BUSSILENT on controller 7, no motor
+    let from = rover.now_us;
+    rover.run(&mut s, &mut latch, 7_100_000);
+    assert_eq!(latch.data(), 0x570c);
+    let actions = rover.actions_between(from, rover.now_us);
+    assert_eq!(spread_targets(&actions), [1, 2, 3, 4, 5, 6, 8, 9]);
+}
+
+#[test]
 fn a_master_side_exception_spreads_to_all_nine() {
     let (mut s, mut latch, mut rover) = booted();
     let missing = MasterException {

@@ -120,13 +120,19 @@ const MASTER_ADDED: [Expect; 2] = [
     (13, "REGMASTER_ERRORCOUNT", 2, R, NONE),
 ];
 
-/// Registers this project adds after the original DS table (stall/fault timing, drive mode).
-const DS_ADDED: [Expect; 2] = [
+/// Registers this project adds after the original DS table (stall/fault timing, drive mode,
+/// bus-silence timeout).
+const DS_ADDED: [Expect; 3] = [
     (45, "REGDS_FAULTTIME", 2, W, NONE),
     (46, "REGDS_DRIVE_MODE", 1, W, NONE),
+    (47, "REGDS_BUSTIMEOUT", 2, W, NONE),
 ];
-/// Registers this project adds after the original LL table (stall/fault timing).
-const LL_ADDED: [Expect; 1] = [(45, "REGLL_FAULTTIME", 2, W, NONE)];
+/// Registers this project adds after the original LL table (stall/fault timing, bus-silence
+/// timeout).
+const LL_ADDED: [Expect; 2] = [
+    (45, "REGLL_FAULTTIME", 2, W, NONE),
+    (46, "REGLL_BUSTIMEOUT", 2, W, NONE),
+];
 
 const MASTER: [Expect; 12] = [
     (0, "REGMASTER_RESET", 1, W, NONE),
@@ -248,7 +254,8 @@ fn flag_bytes_match_the_original_encoding() {
     assert_eq!(ds.flag_byte(id::REG_TIMER), Some(2));
     assert_eq!(ds.flag_byte(id::REGDS_FAULTTIME), Some(66));
     assert_eq!(ds.flag_byte(id::REGDS_DRIVE_MODE), Some(65));
-    assert_eq!(ds.flag_byte(47), None);
+    assert_eq!(ds.flag_byte(id::REGDS_BUSTIMEOUT), Some(66));
+    assert_eq!(ds.flag_byte(48), None);
     assert_eq!(
         ds.register(id::REGDS_STEER_CALIBMIN).unwrap().flag_byte(),
         65

@@ -162,7 +162,7 @@ fn writes_to_read_only_registers_are_ignored() {
 fn missing_registers_read_0xcd_and_are_never_written() {
     let mut f = RegisterFile::new(Variant::LiftLift);
     let len = f.len();
-    assert_eq!(len, 46);
+    assert_eq!(len, 47);
     for pointer in [len, len + 1, 200, 255] {
         f.start_write();
         for b in [pointer, 0x11, 0x22] {
@@ -176,12 +176,12 @@ fn missing_registers_read_0xcd_and_are_never_written() {
     assert!(all_changed(&mut f).is_empty());
     // A write that runs off the end of the table drops the rest.
     f.start_write();
-    for b in [REGLL_FAULTTIME, 0x10, 0x00, 0x99, 0x99] {
+    for b in [REGLL_BUSTIMEOUT, 0x10, 0x00, 0x99, 0x99] {
         f.write(b);
     }
     f.stop();
-    assert_eq!(f.get(REGLL_FAULTTIME), 0x0010);
-    assert_eq!(all_changed(&mut f), vec![REGLL_FAULTTIME]);
+    assert_eq!(f.get(REGLL_BUSTIMEOUT), 0x0010);
+    assert_eq!(all_changed(&mut f), vec![REGLL_BUSTIMEOUT]);
 }
 
 #[test]
@@ -200,9 +200,13 @@ fn a_read_runs_on_through_the_following_registers_then_0xcd() {
     f.write(REGDS_CHASSIS);
     f.stop();
     f.start_read();
-    let run: Vec<u8> = (0..7).map(|_| f.read()).collect();
-    // CHASSIS 0x0000, FAULTTIME 500 = 0x01f4, DRIVE_MODE 0, then 0xcd.
-    assert_eq!(run, [0x00, 0x00, 0xf4, 0x01, 0x00, MISSING, MISSING]);
+    let run: Vec<u8> = (0..9).map(|_| f.read()).collect();
+    // CHASSIS 0x0000, FAULTTIME 500 = 0x01f4, DRIVE_MODE 0, BUSTIMEOUT 2500 = 0x09c4,
+    // then 0xcd.
+    assert_eq!(
+        run,
+        [0x00, 0x00, 0xf4, 0x01, 0x00, 0xc4, 0x09, MISSING, MISSING]
+    );
 }
 
 #[test]
@@ -292,6 +296,7 @@ fn power_up_values_match_the_reference_quirks_included() {
         (REGDS_STEER_STALLCHECK, 0x77),
         (REGDS_STEER_CALIBMAX, 0xfe),
         (REGDS_FAULTTIME, 500),
+        (REGDS_BUSTIMEOUT, 2500),
     ];
     let mut bench = Bench::new(Variant::DriveSteer);
     for id in 0..bench.regs.len() {
@@ -313,6 +318,7 @@ fn power_up_values_match_the_reference_quirks_included() {
         (REGLL_TWO_STALLCHECK, 0x77),
         (REGLL_TWO_CALIBMAX, 0xfe),
         (REGLL_FAULTTIME, 500),
+        (REGLL_BUSTIMEOUT, 2500),
     ];
     let mut bench = Bench::new(Variant::LiftLift);
     for id in 0..bench.regs.len() {

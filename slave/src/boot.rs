@@ -9,11 +9,11 @@ use drivers::timebase::Timebase;
 use drivers::twi_slave::TwiSlave;
 use drivers::watchdog::{Timeout, Watchdog};
 use executor::Device;
-use shared::slave::{AdcCollector, Core, EdgeCounter, Variant};
+use shared::slave::{Board, Core, EdgeCounter, Variant};
 
 use crate::clock::Clock;
 use crate::encoder::Encoder;
-use crate::registers::{Registers, Staging};
+use crate::registers::Registers;
 use crate::sampler::Sampler;
 use crate::stage::Stage;
 
@@ -27,13 +27,9 @@ const fn encoder_mask(variant: Variant) -> u8 {
 }
 
 /// Everything `init` hands to the executor.
-pub struct Parts {
-    /// The register file (TWI and tick).
-    pub regs: Registers,
-    /// The tick's copy of it.
-    pub staging: Staging,
-    /// ADC readings (ADC and tick).
-    pub adc: AdcCollector,
+pub struct Parts<B: Board> {
+    /// The register file and the ADC readings (TWI, ADC and tick).
+    pub regs: Registers<B>,
     /// Encoder edges (encoder and tick).
     pub edges: EdgeCounter,
     /// The µs clock (compare A, encoder and tick).
@@ -45,7 +41,7 @@ pub struct Parts {
     /// The encoder pins.
     pub encoder: Encoder,
     /// The board's logic.
-    pub core: Core,
+    pub core: Core<B>,
     /// Pins, PWM and watchdog.
     pub stage: Stage,
     /// Timer0, kept running.
@@ -54,8 +50,9 @@ pub struct Parts {
     pub changes: PortDChanges,
 }
 
-/// Brings the board up as `variant`.
-pub fn init(dp: Device, variant: Variant) -> Parts {
+/// Brings the board up as `board`'s variant.
+pub fn init<B: Board>(dp: Device, board: B) -> Parts<B> {
+    let variant = board.variant();
     drivers::stack::paint();
     let (mut watchdog, _cause) = Watchdog::new(dp.WDT, &dp.CPU);
     watchdog.start(Timeout::S1);
@@ -66,13 +63,11 @@ pub fn init(dp: Device, variant: Variant) -> Parts {
         (Stage::new(pwm, watchdog), Encoder::new())
     };
     stage.boot();
-    let core = Core::new(variant, Eeprom::new(dp.EEPROM).read(0));
+    let core = Core::new(board, Eeprom::new(dp.EEPROM).read(0));
     let twi = core.address().map(|addr| TwiSlave::new(dp.TWI, addr));
     let (timebase, stamp) = Timebase::start(dp.TC0);
     Parts {
-        regs: Registers::new(variant),
-        staging: Staging::new(variant),
-        adc: AdcCollector::new(),
+        regs: Registers::new(board),
         edges: EdgeCounter::new(),
         clock: Clock::new(stamp),
         twi,

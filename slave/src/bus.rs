@@ -2,13 +2,17 @@
 
 use crate::registers::Registers;
 use drivers::twi_slave::{Event, TwiSlave};
+use shared::slave::Board;
 
 /// Handles the event behind the current TWINT.
 #[inline(always)]
-pub fn on_event(twi: &mut TwiSlave, live: &mut Registers) {
+pub fn on_event<B: Board>(twi: &mut TwiSlave, live: &mut Registers<B>) {
     let event = twi.event();
     if let Event::Data(_) = event {
         live.mark_written();
+    }
+    if let Event::WriteStart | Event::ReadStart = event {
+        live.mark_addressed();
     }
     let regs = live.file();
     match event {

@@ -11,18 +11,20 @@
 //! | `millis` | TIMER0_COMPA, 1 kHz | 3 | `clock` |
 //! | `edge` | PCINT2 (PD0, encoder A; DS only) | 3 | `clock`, `edges`; encoder pins |
 //! | `twi` | TWI | 2 | `regs`; the TWI |
-//! | `sample` | ADC | 2 | `adc`; the ADC |
-//! | `control` | TIMER0_COMPB, 1 kHz | 1 | all four; the logic, pins, PWM, watchdog |
+//! | `sample` | ADC | 2 | `regs` (its ADC readings); the ADC |
+//! | `control` | TIMER0_COMPB, 1 kHz | 1 | all three; the logic, pins, PWM, watchdog |
 //! | idle | — | 0 | sleeps |
 //!
 //! The encoder and the clock are at the top priority, so no edge waits for anything but
 //! another top task, and a timestamp never sees a millisecond counted twice.
 #![no_std]
+#![feature(abi_avr_interrupt)]
 
 pub mod boot;
 pub mod bus;
 pub mod clock;
 pub mod encoder;
+pub mod mem;
 mod panic;
 pub mod registers;
 pub mod sampler;
@@ -30,18 +32,21 @@ pub mod stage;
 
 pub use shared::slave::Variant;
 
-/// The whole firmware of a slave built as `variant`: the executor's application and its
-/// task bodies. Used once, by each bin.
+/// The whole firmware of a slave built as `board` ([`shared::slave::DriveSteerBoard`] or
+/// [`shared::slave::LiftLiftBoard`]: the variant is a type, fixed at build time, so each
+/// image carries only its own variant's code): the executor's application and its task
+/// bodies. Used once, by each bin.
 #[macro_export]
 macro_rules! firmware {
-    ($variant:expr) => {
+    ($board:ident) => {
         use $crate::shared_types::*;
+
+        $crate::mem_routines!();
 
         executor::app! {
             #[shared]
             struct Shared {
-                regs: Registers,
-                adc: AdcCollector,
+                regs: Registers<$board>,
                 edges: EdgeCounter,
                 clock: Clock,
             }
@@ -51,8 +56,7 @@ macro_rules! firmware {
                 twi_port: Option<TwiSlave>,
                 sampler: Sampler,
                 encoder: Encoder,
-                core: Core,
-                staging: Staging,
+                core: Core<$board>,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -70,19 +74,18 @@ macro_rules! firmware {
             #[task(binds = TWI, priority = 2, shared = [regs], local = [twi_port])]
             fn twi;
 
-            #[task(binds = ADC, priority = 2, shared = [adc], local = [sampler])]
+            #[task(binds = ADC, priority = 2, shared = [regs], local = [sampler])]
             fn sample;
 
-            #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, adc, edges, clock], local = [core, staging, stage])]
+            #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock], local = [core, stage])]
             fn control;
         }
 
         fn init(cx: init::Context) -> (Shared, Local) {
-            let p = $crate::boot::init(cx.device, $variant);
+            let p = $crate::boot::init(cx.device, $board);
             (
                 Shared {
                     regs: p.regs,
-                    adc: p.adc,
                     edges: p.edges,
                     clock: p.clock,
                 },
@@ -91,7 +94,6 @@ macro_rules! firmware {
                     sampler: p.sampler,
                     encoder: p.encoder,
                     core: p.core,
-                    staging: p.staging,
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -117,25 +119,30 @@ macro_rules! firmware {
         }
 
         fn sample(mut cx: sample::Context) {
-            cx.local.sampler.on_complete(&mut cx.shared.adc);
+            cx.local.sampler.on_complete(cx.shared.regs.adc());
         }
 
         fn control(mut cx: control::Context) {
             let now_us = cx.shared.clock.lock(|c| c.now_us());
-            let inputs = Inputs {
-                edges: cx.shared.edges.lock(|e| e.take()),
-                adc: cx.shared.adc.lock(|a| a.take()),
-            };
+            let edges = cx.shared.edges.lock(|e| e.take());
             let core = &mut *cx.local.core;
-            let staging = &mut *cx.local.staging;
-            if cx.shared.regs.lock(|r| staging.take(r)) {
-                staging.apply(core);
+            // One lock for everything the priority-2 tasks fill.
+            let (adc, changes, addressed) = cx
+                .shared
+                .regs
+                .lock(|r| (r.adc().take(), r.take_changes(), r.take_addressed()));
+            let inputs = Inputs { edges, adc };
+            if let Some(mut changes) = changes {
+                while let Some(reg) = changes.take() {
+                    let raw = cx.shared.regs.lock(|r| r.take_value(reg));
+                    core.apply(reg, raw);
+                }
+            }
+            if addressed {
+                core.bus_heard();
             }
             let outputs = core.step(now_us, &inputs);
-            cx.shared.regs.lock(|r| {
-                staging.settle(r);
-                core.publish(r.file());
-            });
+            cx.shared.regs.lock(|r| core.publish(r.file()));
             cx.local.stage.apply(&outputs);
         }
     };
@@ -146,11 +153,11 @@ macro_rules! firmware {
 pub mod shared_types {
     pub use crate::clock::Clock;
     pub use crate::encoder::Encoder;
-    pub use crate::registers::{Registers, Staging};
+    pub use crate::registers::Registers;
     pub use crate::sampler::Sampler;
     pub use crate::stage::Stage;
     pub use drivers::pcint::PortDChanges;
     pub use drivers::timebase::Timebase;
     pub use drivers::twi_slave::TwiSlave;
-    pub use shared::slave::{AdcCollector, Core, EdgeCounter, Inputs, Variant};
+    pub use shared::slave::{Core, DriveSteerBoard, EdgeCounter, Inputs, LiftLiftBoard, Variant};
 }

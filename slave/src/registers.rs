@@ -1,33 +1,50 @@
 //! The register file as a shared resource, and how the control tick takes the bus's
 //! writes without holding the TWI off for long.
 //!
-//! Applying a changed register (`Core::take_writes`) converts raw values to fixed
-//! point, a few hundred cycles each; a burst of writes between two ticks would hold the
-//! TWI task off for a millisecond if done under the lock. Instead the tick copies the
-//! file under the lock (only when a write arrived since the last tick), clears the live
-//! marks, and applies the copy with the TWI free.
+//! Applying a changed register (`Core::apply`) converts raw values to fixed point, a
+//! few hundred cycles each; a burst of writes between two ticks would hold the TWI task
+//! off for a millisecond if done under the lock. Instead the tick takes the change marks
+//! under the lock (only when a write arrived since the last tick), then reads each marked
+//! register under a short lock of its own and applies it with the TWI free. No copy of
+//! the file: a register written again meanwhile is marked again and applied again next
+//! tick, with the same final state as applying both values in turn.
+//!
+//! The ADC readings live in the same resource: the ADC task has the TWI task's
+//! priority, so the tick takes the readings, the change marks and the addressed flag
+//! under one lock.
 
 use shared::regs::id;
-use shared::slave::{Core, RegisterFile, Variant};
+use shared::slave::{AdcCollector, Board, Changes, RegisterFile};
 
-/// The live register file, and whether a data byte was written since the last take.
-pub struct Registers {
-    file: RegisterFile,
+/// The live register file, whether a data byte was written since the last take,
+/// whether the board was addressed (for the bus-silence failsafe), and the ADC readings.
+pub struct Registers<B: Board> {
+    file: RegisterFile<B>,
     written: bool,
+    addressed: bool,
+    adc: AdcCollector,
 }
 
-impl Registers {
-    /// The power-up file of `variant`.
-    pub fn new(variant: Variant) -> Registers {
+impl<B: Board> Registers<B> {
+    /// The power-up file of `board`'s variant.
+    pub fn new(board: B) -> Registers<B> {
         Registers {
-            file: RegisterFile::new(variant),
+            file: RegisterFile::new(board),
             written: false,
+            addressed: false,
+            adc: AdcCollector::new(),
         }
+    }
+
+    /// The ADC readings, for the ADC task and the tick.
+    #[inline(always)]
+    pub fn adc(&mut self) -> &mut AdcCollector {
+        &mut self.adc
     }
 
     /// The file, for the TWI task.
     #[inline(always)]
-    pub fn file(&mut self) -> &mut RegisterFile {
+    pub fn file(&mut self) -> &mut RegisterFile<B> {
         &mut self.file
     }
 
@@ -36,49 +53,37 @@ impl Registers {
     pub fn mark_written(&mut self) {
         self.written = true;
     }
-}
 
-/// The control tick's copy of the file.
-pub struct Staging {
-    copy: RegisterFile,
-    /// REG_RESET's bits in the copy being applied.
-    reset: u16,
-}
-
-impl Staging {
-    /// An unused copy.
-    pub fn new(variant: Variant) -> Staging {
-        Staging {
-            copy: RegisterFile::new(variant),
-            reset: 0,
-        }
+    /// A transaction addressed this board (SLA+W or SLA+R).
+    #[inline(always)]
+    pub fn mark_addressed(&mut self) {
+        self.addressed = true;
     }
 
-    /// Under the lock: copies the file if anything was written, and clears the live
-    /// change marks. Returns whether there is anything to apply.
-    pub fn take(&mut self, live: &mut Registers) -> bool {
-        if !live.written {
-            return false;
+    /// Under the lock, for the tick: the change marks, taken (cleared), if a data byte
+    /// was written since the last call.
+    #[inline(always)]
+    pub fn take_changes(&mut self) -> Option<Changes> {
+        if !core::mem::take(&mut self.written) {
+            return None;
         }
-        live.written = false;
-        self.copy.clone_from(&live.file);
-        while live.file.take_changed().is_some() {}
-        self.reset = self.copy.get(id::REG_RESET);
-        true
+        Some(self.file.take_changes())
     }
 
-    /// Without the lock: applies the copied writes.
-    pub fn apply(&mut self, core: &mut Core) {
-        core.take_writes(&mut self.copy);
+    /// Under the lock, for the tick: a changed register's value. REG_RESET's bits are
+    /// taken: cleared in the file, so that bits written later are applied next tick.
+    pub fn take_value(&mut self, reg: u8) -> u16 {
+        let raw = self.file.get(reg);
+        if reg == id::REG_RESET {
+            self.file.set(id::REG_RESET, 0);
+        }
+        raw
     }
 
-    /// Under the lock: REG_RESET's applied bits are cleared in the live file (bits
-    /// written since the copy stay, and are applied next tick).
-    pub fn settle(&mut self, live: &mut Registers) {
-        if self.reset != 0 {
-            let now = live.file.get(id::REG_RESET);
-            live.file.set(id::REG_RESET, now & !self.reset);
-            self.reset = 0;
-        }
+    /// Under the lock, for the tick: whether the board was addressed since the last
+    /// call.
+    #[inline(always)]
+    pub fn take_addressed(&mut self) -> bool {
+        core::mem::take(&mut self.addressed)
     }
 }

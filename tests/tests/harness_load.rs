@@ -5,10 +5,16 @@ use harness::{firmware_path, Avr, HarnessError};
 #[test]
 fn firmware_path_is_under_target_firmware() {
     let p = firmware_path("fixture_uart_echo");
-    assert!(
-        p.ends_with("target/firmware/fixture_uart_echo.elf"),
-        "{p:?}"
-    );
+    let dir = std::env::var("BLODWEN_FIRMWARE_DIR").unwrap_or_default();
+    if dir.is_empty() {
+        assert!(
+            p.ends_with("target/firmware/fixture_uart_echo.elf"),
+            "{}",
+            p.display()
+        );
+    } else {
+        assert_eq!(p, std::path::Path::new(&dir).join("fixture_uart_echo.elf"));
+    }
     assert!(p.exists(), "build fixtures with scripts/firmware.sh");
 }
 

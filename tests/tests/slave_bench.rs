@@ -1,13 +1,19 @@
 //! Cycle benchmarks of the drive/steer image in the emulator (not timed tests): the
 //! control tick with both controllers running, the encoder-edge task, the idle CPU
-//! share and the worst-case stack (painted at boot, read back here). Figures go to
-//! docs/benchmarks.md (Slave); run with `--nocapture` to see them.
+//! share and the worst-case stack (painted at boot, read back here); the TWI byte task
+//! under register writes and reads; the highest encoder edge rate counted without a
+//! lost edge. Figures go to docs/benchmarks.md (Slave); run with `--nocapture` to see
+//! them.
 
 mod slave_support;
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::rc::Rc;
+
 use harness::{Avr, CpuState, Pin};
 use shared::regs::id;
-use slave_support::{rig, DRIVE_GAINS, STEER_GAINS_WHEEL_1};
+use slave_support::{rig, Rig, DRIVE_GAINS, STEER_GAINS_WHEEL_1};
 
 /// Byte addresses of the vectors the slave binds.
 const PCINT2: u32 = 5 * 4;
@@ -29,16 +35,63 @@ fn sp(avr: &Avr) -> u16 {
 /// Exclusive cycles per handler run, by vector, and sleeping cycles.
 #[derive(Default)]
 struct Profile {
-    runs: std::collections::HashMap<u32, Vec<u64>>,
+    runs: HashMap<u32, Vec<u64>>,
     asleep: u64,
     total: u64,
+}
+
+/// Follows handler entries and returns instruction by instruction: the exclusive cycles
+/// of every finished handler run, by vector.
+#[derive(Default)]
+struct Tracker {
+    /// (vector, sp at entry, entry cycle, cycles of nested handlers)
+    frames: Vec<(u32, u16, u64, u64)>,
+    runs: HashMap<u32, Vec<u64>>,
+    /// Since when interrupts are off (SREG I clear), and the longest such stretch with
+    /// the PC where it ended.
+    off_since: Option<u64>,
+    longest_off: (u64, u32),
+}
+
+impl Tracker {
+    /// After each step of `avr`.
+    fn after_step(&mut self, avr: &mut Avr) {
+        let now_sp = sp(avr);
+        while let Some(&(v, s, at, nested)) = self.frames.last() {
+            if now_sp < s + 2 {
+                break;
+            }
+            self.frames.pop();
+            let total = avr.cycles() - at;
+            self.runs.entry(v).or_default().push(total - nested);
+            if let Some(outer) = self.frames.last_mut() {
+                outer.3 += total;
+            }
+        }
+        let at = pc(avr);
+        if VECTORS.contains(&at) {
+            self.frames.push((at, now_sp, avr.cycles(), 0));
+        }
+        // SAFETY: plain field read of the live core.
+        let enabled = unsafe { (*avr.as_ptr()).sreg[7] != 0 };
+        match (enabled, self.off_since) {
+            (false, None) => self.off_since = Some(avr.cycles()),
+            (true, Some(since)) => {
+                self.off_since = None;
+                let off = avr.cycles() - since;
+                if off > self.longest_off.0 {
+                    self.longest_off = (off, at);
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 /// Steps `avr` for `cycles`, toggling PD0 every `edge_half_period` cycles (0: never).
 fn profile(avr: &mut Avr, cycles: u64, edge_half_period: u64) -> Profile {
     let mut p = Profile::default();
-    // (vector, sp at entry, entry cycle, cycles of nested handlers)
-    let mut frames: Vec<(u32, u16, u64, u64)> = Vec::new();
+    let mut tracker = Tracker::default();
     let start = avr.cycles();
     let mut next_edge = start + edge_half_period;
     let mut level = false;
@@ -54,29 +107,19 @@ fn profile(avr: &mut Avr, cycles: u64, edge_half_period: u64) -> Profile {
         if asleep {
             p.asleep += avr.cycles() - before;
         }
-        let now_sp = sp(avr);
-        while let Some(&(v, s, at, nested)) = frames.last() {
-            if now_sp < s + 2 {
-                break;
-            }
-            frames.pop();
-            let total = avr.cycles() - at;
-            p.runs.entry(v).or_default().push(total - nested);
-            if let Some(outer) = frames.last_mut() {
-                outer.3 += total;
-            }
-        }
-        let at = pc(avr);
-        if VECTORS.contains(&at) {
-            frames.push((at, now_sp, avr.cycles(), 0));
-        }
+        tracker.after_step(avr);
     }
+    p.runs = tracker.runs;
     p.total = avr.cycles() - start;
     p
 }
 
 fn stats(p: &Profile, v: u32) -> (usize, u64, u64) {
-    let runs = p.runs.get(&v).cloned().unwrap_or_default();
+    run_stats(p.runs.get(&v).map(Vec::as_slice).unwrap_or_default())
+}
+
+/// (runs, mean, max).
+fn run_stats(runs: &[u64]) -> (usize, u64, u64) {
     let max = runs.iter().copied().max().unwrap_or(0);
     let mean = if runs.is_empty() {
         0
@@ -132,4 +175,239 @@ fn drive_steer_costs() {
         statics + stack
     );
     assert!(stack > 20 && stack < 1_000, "{stack}");
+}
+
+/// The TWI task's exclusive cycles per interrupt over one bus operation of the test
+/// (acting as the I2C master at 400 kHz), the chip left to finish its last interrupt.
+fn twi_runs(r: &mut Rig, tracker: &Rc<RefCell<Tracker>>, op: impl FnOnce(&mut Rig)) -> Vec<u64> {
+    tracker.borrow_mut().runs.clear();
+    op(r);
+    r.bus.run_us(200);
+    let runs = tracker.borrow_mut().runs.remove(&TWI);
+    runs.unwrap_or_default()
+}
+
+#[test]
+fn twi_byte_task_costs() {
+    let mut r = rig(1);
+    r.run_us(650_000);
+    r.reset_exceptions();
+    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
+        r.write_raw(reg, raw);
+    }
+    r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
+    r.run_us(500_000);
+    let tracker = Rc::new(RefCell::new(Tracker::default()));
+    let t = Rc::clone(&tracker);
+    r.avr()
+        .set_observer(move |avr| t.borrow_mut().after_step(avr));
+
+    // One register write as the master relays it: SLA+W, id, LSB, MSB, STOP.
+    let mut all = Vec::new();
+    let mut writes = Vec::new();
+    for k in 0..20u16 {
+        let runs = twi_runs(&mut r, &tracker, |r| {
+            r.write_raw(id::REGDS_DRIVE_REQSPEED, 0x8000 + k)
+        });
+        assert_eq!(runs.len(), 5, "SLA+W, 3 bytes, STOP: {runs:?}");
+        writes.push(runs.iter().sum::<u64>());
+        all.extend(runs);
+    }
+    // One register read: the pointer (SLA+W, id, STOP), then SLA+R, 2 bytes, STOP.
+    let mut reads = Vec::new();
+    for _ in 0..20 {
+        let runs = twi_runs(&mut r, &tracker, |r| {
+            assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+        });
+        reads.push(runs.iter().sum::<u64>());
+        all.extend(runs);
+    }
+    // A continued read of 12 bytes: DRIVE_ACTUALSPEED..DRIVE_CURRENT.
+    let mut long_reads = Vec::new();
+    for _ in 0..20 {
+        let runs = twi_runs(&mut r, &tracker, |r| {
+            assert_eq!(r.read_bytes(id::REGDS_DRIVE_ACTUALSPEED, 12).len(), 12);
+        });
+        assert!(runs.len() >= 15, "3 + 13 interrupts or so: {}", runs.len());
+        long_reads.push(runs.iter().sum::<u64>());
+        all.extend(runs);
+    }
+    r.avr().clear_observer();
+    let (off, at) = tracker.borrow().longest_off;
+    println!("longest stretch with interrupts off: {off} cycles (ended at {at:#06x})");
+
+    let (n, mean, max) = run_stats(&all);
+    println!("TWI task: {n} interrupts, mean {mean}, max {max} cycles");
+    let (_, write_mean, write_max) = run_stats(&writes);
+    println!("one register write (5 interrupts): mean {write_mean}, max {write_max} cycles");
+    let (_, read_mean, read_max) = run_stats(&reads);
+    println!("one 2-byte register read: mean {read_mean}, max {read_max} cycles");
+    let (_, long_mean, long_max) = run_stats(&long_reads);
+    println!("one 12-byte continued read: mean {long_mean}, max {long_max} cycles");
+    // A byte at 400 kHz lasts 22.5 µs = 360 cycles: every interrupt must be far shorter.
+    assert!(mean > 20 && max < 360, "mean {mean}, max {max}");
+    assert!(write_mean > 5 * 20 && write_max < 5 * 360);
+    assert!(long_mean > read_mean, "{long_mean} vs {read_mean}");
+}
+
+/// The other master's command: write the pointer (DRIVE_ACTUALSPEED), STOP, read the 12
+/// monitoring bytes; its reply, 39 bytes at 115200 baud, takes 3.4 ms.
+const READ_12: &[u8] = b"x 01 10 0c\n";
+/// One such command every 5 ms, so its UART (polled, no buffer) never overruns.
+const TRAFFIC_PERIOD: u64 = 16_000 * 5;
+
+/// A quadrature encoder on PD0 (A) and PD1 (B), forward: A rises, B rises, A falls, B
+/// falls, `quarter` cycles apart. Driven from the chip's observer, so every change lands
+/// on the chip's own clock (at the first instruction boundary at or after its cycle) even
+/// while a bus event runs the chip ahead of the bus.
+struct Quadrature {
+    quarter: u64,
+    next: u64,
+    step: usize,
+    /// Changes still to make.
+    left: u32,
+    /// The latest a change landed after its cycle.
+    worst_late: u64,
+}
+
+impl Quadrature {
+    const STEPS: [(u8, bool); 4] = [(0, true), (1, true), (0, false), (1, false)];
+
+    fn drive(&mut self, avr: &mut Avr) {
+        while self.left > 0 && avr.cycles() >= self.next {
+            let (pin, level) = Self::STEPS[self.step % 4];
+            avr.set_pin(Pin::d(pin), level);
+            self.worst_late = self.worst_late.max(avr.cycles() - self.next);
+            self.step += 1;
+            self.left -= 1;
+            self.next += self.quarter;
+        }
+    }
+}
+
+/// Feeds `rising` A rising edges at `rate` per second. With a `master` chip, it is sent
+/// [`READ_12`] every [`TRAFFIC_PERIOD`] meanwhile. Returns the commands sent and the
+/// latest an encoder change landed, in cycles.
+fn feed_quadrature(r: &mut Rig, rising: u32, rate: u32, master: Option<usize>) -> (u32, u64) {
+    let quarter = 16_000_000 / (4 * u64::from(rate));
+    // A bus event may have left the chip ahead of the bus: start on the chip's clock.
+    let start = r.avr().cycles().max(r.bus.cycles());
+    let encoder = Rc::new(RefCell::new(Quadrature {
+        quarter,
+        next: start,
+        step: 0,
+        left: 4 * rising,
+        worst_late: 0,
+    }));
+    let e = Rc::clone(&encoder);
+    r.avr().set_observer(move |avr| e.borrow_mut().drive(avr));
+    let mut next_command = start;
+    let mut commands = 0;
+    while encoder.borrow().left > 0 {
+        // Bus runs end on the changes' cycles, so a sleeping chip wakes for each.
+        let next = encoder.borrow().next;
+        let now = r.bus.cycles();
+        r.bus.run_cycles(next.saturating_sub(now).max(1));
+        encoder.borrow_mut().drive(&mut r.avr());
+        if let Some(m) = master.filter(|_| r.bus.cycles() >= next_command) {
+            r.bus.uart_send(m, READ_12);
+            next_command += TRAFFIC_PERIOD;
+            commands += 1;
+        }
+    }
+    r.avr().clear_observer();
+    let late = encoder.borrow().worst_late;
+    (commands, late)
+}
+
+/// The odometer after `256·k` A rising edges at `rate`: REG_RESET bit 2 zeroes it first,
+/// so it must read k exactly (one lost edge reads k − 1). With a `master`, also whether
+/// every read it was sent meanwhile was answered (12 bytes each).
+fn edges_counted(r: &mut Rig, rate: u32, k: u16, master: Option<usize>) -> (u16, bool) {
+    r.write_raw(id::REG_RESET, 4);
+    r.bus.run_us(3_000);
+    assert_eq!(r.read_raw(id::REGDS_DRIVE_ODO), 0);
+    if let Some(m) = master {
+        r.bus.chip(m).map(|mut a| a.uart_take());
+    }
+    let (commands, late) = feed_quadrature(r, 256 * u32::from(k), rate, master);
+    // A sleeping chip may overrun the end of a bus run: then one change lands late (140
+    // cycles seen, once in 40 ms), far less than a quarter period at the rates that
+    // matter here.
+    assert!(late <= 200, "an encoder change landed {late} cycles late");
+    r.bus.run_us(6_000);
+    let mut served = true;
+    if let Some(m) = master {
+        let replies = r.bus.chip(m).map(|mut a| a.uart_take()).unwrap_or_default();
+        let answered = replies.iter().filter(|&&b| b == b'=').count();
+        assert!(commands > 0);
+        served = answered == commands as usize;
+    }
+    (r.read_raw(id::REGDS_DRIVE_ODO), served)
+}
+
+/// The highest rate of `rates` (ascending) below the first that loses an edge.
+fn highest_lossless(r: &mut Rig, rates: &[u32], master: Option<usize>) -> u32 {
+    let k = 16; // 4096 rising edges a run
+    let mut best = 0;
+    for &rate in rates {
+        let (counted, served) = edges_counted(r, rate, k, master);
+        println!(
+            "  {rate} A edges/s ({} pin changes/s): odometer {counted} of {k} (x256){}",
+            4 * rate,
+            if served {
+                ""
+            } else {
+                ", TWI reads not all answered"
+            }
+        );
+        if counted != k || !served {
+            break;
+        }
+        best = rate;
+    }
+    best
+}
+
+#[test]
+fn highest_encoder_rate_without_a_lost_edge() {
+    let mut r = rig(1);
+    r.run_us(650_000);
+    r.reset_exceptions();
+    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
+        r.write_raw(reg, raw);
+    }
+    r.write_value(id::REGDS_STEER_REQPOS, 20.0);
+    r.write_raw(id::REGDS_DRIVE_MODE, 1);
+    r.run_us(100_000);
+    {
+        let mut avr = r.avr();
+        avr.set_pin(Pin::d(0), false);
+        avr.set_pin(Pin::d(1), false);
+    }
+    let rates = [
+        4_000, 8_000, 12_000, 16_000, 18_000, 20_000, 22_000, 24_000, 28_000, 32_000, 36_000,
+        40_000, 44_000, 48_000, 56_000, 64_000, 72_000, 80_000, 96_000, 112_000, 128_000,
+    ];
+    println!("encoder edges, tick and ADC running:");
+    let quiet = highest_lossless(&mut r, &rates, None);
+    // A second master on the bus reads the drive's 12 monitoring bytes every 5 ms at
+    // 400 kHz all through the run.
+    let master = Avr::firmware("fixture_twi_master").expect("fixture_twi_master");
+    let m = r.bus.add_master(master).expect("a master");
+    r.bus
+        .uart_read_until(m, b"twi master", 100_000)
+        .expect("banner");
+    r.bus.uart_send(m, b"f 0c 0\n");
+    r.bus.uart_read_until(m, b"ok", 100_000).expect("400 kHz");
+    println!("the same with TWI traffic:");
+    let busy = highest_lossless(&mut r, &rates, Some(m));
+    println!(
+        "highest rate with no lost edge: {quiet} A edges/s = {quiet} ticks/s quiet, \
+         {busy} with TWI traffic ({} pin changes/s)",
+        4 * busy
+    );
+    // The rover's top drive speed is 4000 ticks/s (REGDS_DRIVE_REQSPEED's range).
+    assert!(busy >= 4_000, "edges lost at the top speed");
+    assert!(quiet >= busy);
 }

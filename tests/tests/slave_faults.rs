@@ -253,3 +253,102 @@ fn no_false_stall_on_a_step_a_reversal_or_a_sweep() {
         "duty above STALLCHECK"
     );
 }
+
+/// The bus-silence failsafe (new): exception type 12, motor 5 (none).
+const BUSSILENT_DATA: u16 = 0x050c;
+
+/// A drive/steer board pinged once, its drive cruising at 1000 ticks/s forward.
+fn pinged_and_driving(addr: u8) -> Rig {
+    let mut r = running(addr);
+    r.write_raw(id::REG_PING, 0);
+    send(&mut r, slave_support::DRIVE_GAINS);
+    r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
+    for _ in 0..2 {
+        r.run_us(1_000_000);
+        r.write_raw(id::REG_PING, 0);
+    }
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    assert!(
+        r.pin(Pin::d(2)) && r.duty(Pin::d(9)) > 0.0,
+        "driving forward"
+    );
+    r
+}
+
+/// Runs with no bus traffic until the drive's POS pin falls, for at most `max_us`;
+/// returns the µs from the call (the end of the last transaction) to the fall.
+fn silent_until_stopped(r: &mut Rig, max_us: u64) -> Option<u64> {
+    let start = r.bus.micros();
+    let chip = r.chip;
+    let fell = r
+        .plant
+        .run_until(&mut r.bus, max_us, |bus| {
+            !bus.chip(chip).unwrap().pin(Pin::d(2))
+        })
+        .unwrap();
+    fell.then(|| r.bus.micros() - start)
+}
+
+#[test]
+fn a_pinged_board_left_silent_stops_its_motors_after_bustimeout() {
+    let mut r = pinged_and_driving(1);
+    let after = silent_until_stopped(&mut r, 4_000_000).expect("the motors stop");
+    println!("bus silence to motors stopped: {after} µs (BUSTIMEOUT 2500 ms)");
+    // The first tick after the last transaction's address byte (at most 1 ms later, or
+    // up to the ~0.1 ms the transaction lasts earlier) restarts the count; 2500 ticks
+    // later the exception stops the motors at the end of that tick (under 0.75 ms).
+    assert!(
+        (2_499_900..=2_502_000).contains(&after),
+        "stopped {after} µs into the silence"
+    );
+    assert_stopped(&r);
+    let (led1, led2) = led_counts(&mut r, 200);
+    assert_eq!((led1, led2), (200, 200), "no motor: both LEDs");
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0009);
+    // REG_RESET bit 0 leaves it as any exception, and the drive resumes.
+    r.write_raw(id::REG_RESET, 1);
+    r.run_us(200_000);
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
+    assert!(r.pin(Pin::d(2)), "driving again");
+}
+
+#[test]
+fn a_board_never_pinged_ignores_a_long_silence() {
+    let mut r = running(2);
+    send(&mut r, slave_support::DRIVE_GAINS);
+    r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
+    assert_eq!(silent_until_stopped(&mut r, 10_000_000), None);
+    assert!(r.duty(Pin::d(9)) > 0.0, "still driving");
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), 0x0500 | BOOT);
+}
+
+#[test]
+fn pings_once_a_second_keep_a_board_running() {
+    let mut r = pinged_and_driving(4);
+    for second in 0..10 {
+        assert_eq!(silent_until_stopped(&mut r, 1_000_000), None, "{second} s");
+        r.write_raw(id::REG_PING, 0);
+    }
+    assert!(r.duty(Pin::d(9)) > 0.0, "still driving");
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+}
+
+#[test]
+fn bustimeout_zero_turns_the_failsafe_off() {
+    let mut r = pinged_and_driving(5);
+    r.write_raw(id::REGDS_BUSTIMEOUT, 0);
+    assert_eq!(silent_until_stopped(&mut r, 10_000_000), None);
+    assert!(r.duty(Pin::d(9)) > 0.0, "still driving");
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    // A lift/lift board takes a short timeout at its own id.
+    let mut r = running(3);
+    r.write_raw(id::REGLL_BUSTIMEOUT, 20);
+    r.write_raw(id::REG_PING, 0);
+    r.run_us(30_000);
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0005);
+    assert_stopped(&r);
+}

@@ -22,6 +22,7 @@ const DS_BOOT: &[(u8, u16)] = &[
     (40, 0x77),   // STEER_STALLCHECK
     (43, 0xfe),   // STEER_CALIBMAX
     (45, 500),    // FAULTTIME (new)
+    (47, 2500),   // BUSTIMEOUT (new)
 ];
 
 /// Writable registers' power-up raw values that are not 0, lift/lift (§8.1).
@@ -36,6 +37,7 @@ const LL_BOOT: &[(u8, u16)] = &[
     (42, 0xfe),   // TWO_CALIBMAX
     (43, 0x77),   // TWO_STALLCHECK
     (45, 500),    // FAULTTIME (new)
+    (46, 2500),   // BUSTIMEOUT (new)
 ];
 
 fn expected_boot(board: BoardKind, reg: u8) -> u16 {
@@ -204,9 +206,10 @@ fn missing_ids_read_0xcd_and_runs_are_contiguous() {
     r.write_raw(id::REGDS_FAULTTIME, 0x0123);
     r.write_raw(id::REGDS_DRIVE_MODE, 1);
     r.run_us(2_000);
+    // FAULTTIME, DRIVE_MODE, BUSTIMEOUT (2500 = 0x09c4), then past the end.
     assert_eq!(
-        r.read_bytes(id::REGDS_FAULTTIME, 5),
-        vec![0x23, 0x01, 0x01, 0xcd, 0xcd]
+        r.read_bytes(id::REGDS_FAULTTIME, 7),
+        vec![0x23, 0x01, 0x01, 0xc4, 0x09, 0xcd, 0xcd]
     );
     // A run through mixed sizes equals the single reads.
     let first = id::REGDS_STEER_REQPOS;

@@ -1,6 +1,7 @@
 //! Fault injection through the twin, seen as a PC program sees it: a stalled wheel raises its
 //! fault on the master and every motor stops; a slave cut off the bus is detected within the
-//! master's bound; a current spike raises a short; an unplugged temperature sensor raises
+//! master's bound and, its bus-silence failsafe armed by the master's pings, stops its own
+//! wheel after BUSTIMEOUT; a current spike raises a short; an unplugged temperature sensor raises
 //! type 10; the RC receiver takes over the drives.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
@@ -104,20 +105,52 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
         "detected after {took:?}"
     );
     // Every other slave is told, and their wheels coast to a stop. Controller 5 cannot
-    // hear it: cut off, its wheel (4) keeps its last demand, as the original's slaves do
-    // (they have no bus-silence failsafe, reference §4.6).
-    s.pass(3.0);
-    let speeds = physical_speeds(&s);
-    for (i, v) in speeds.iter().enumerate() {
-        if i == 3 {
+    // hear it, but, pinged by the master since 5 s after its boot, its bus-silence
+    // failsafe is armed: BUSTIMEOUT (2500 ms) after the last transaction it stopped its
+    // own motors, and its wheel (4) coasts to a stop as the others did.
+    let mut others_stopped = None;
+    let mut cut_stopped = None;
+    while s.clock_now() - cut_at < Duration::from_millis(4_500) {
+        s.pass(0.01);
+        let speeds = physical_speeds(&s);
+        let at = s.clock_now() - cut_at;
+        let others = speeds
+            .iter()
+            .enumerate()
+            .all(|(i, v)| i == 3 || v.abs() < 50.0);
+        if others && others_stopped.is_none() {
+            others_stopped = Some(at);
+        }
+        if speeds[3].abs() < 50.0 {
+            cut_stopped = Some(at);
+            break;
+        }
+        if at < Duration::from_millis(2_500) {
             assert!(
-                (v - 1000.0).abs() < 60.0,
-                "wheel 4 (controller 5): {speeds:?}"
+                speeds[3] > 800.0,
+                "wheel 4 (controller 5) turns until BUSTIMEOUT, at {at:?}: {speeds:?}"
             );
-        } else {
-            assert!(v.abs() < 50.0, "still turning: {speeds:?}");
         }
     }
+    let others = others_stopped.expect("the other wheels stop");
+    let cut = cut_stopped.expect("wheel 4 (controller 5) never stopped");
+    println!(
+        "cut off: the other wheels stopped after {others:?}, wheel 4 (failsafe) after {cut:?}"
+    );
+    // Its last transaction came at most a few ms before the cut; the coast to below
+    // 50 ticks/s takes as long as the others' after their spread (plus 100 ms).
+    let coast = others.saturating_sub(took);
+    assert!(
+        cut >= Duration::from_millis(2_500)
+            && cut <= Duration::from_millis(2_500) + coast + Duration::from_millis(100),
+        "wheel 4 stopped after {cut:?} (others coasted for {coast:?})"
+    );
+    s.pass(0.5);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
     // Back on the bus, it answers again.
     s.twin.borrow_mut().restore(5).unwrap();
     s.pass(0.1);

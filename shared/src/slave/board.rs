@@ -12,6 +12,47 @@ pub enum Variant {
     LiftLift,
 }
 
+/// A slave variant as a type parameter of [`super::Core`] and [`super::RegisterFile`].
+///
+/// [`Variant`] itself is one (the variant chosen at run time: host tests and tools); the
+/// zero-sized [`DriveSteerBoard`] and [`LiftLiftBoard`] fix it at build time, so that
+/// every `match` on the variant folds away and an image carries only its own variant's
+/// code (no drive code in the lift image). The logic is the same generic code for all
+/// three.
+pub trait Board: Copy {
+    /// The variant.
+    fn variant(self) -> Variant;
+}
+
+impl Board for Variant {
+    #[inline(always)]
+    fn variant(self) -> Variant {
+        self
+    }
+}
+
+/// The drive/steer variant, fixed at build time.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct DriveSteerBoard;
+
+impl Board for DriveSteerBoard {
+    #[inline(always)]
+    fn variant(self) -> Variant {
+        Variant::DriveSteer
+    }
+}
+
+/// The lift/lift variant, fixed at build time.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct LiftLiftBoard;
+
+impl Board for LiftLiftBoard {
+    #[inline(always)]
+    fn variant(self) -> Variant {
+        Variant::LiftLift
+    }
+}
+
 /// REG_STATUS bit 0: the slave is in exception.
 pub const STATUS_EXCEPTION: u16 = 0x0001;
 /// REG_STATUS bit 2: a lift/lift board.
@@ -261,5 +302,78 @@ impl Layout {
                 Monitor::Interval => 12,
                 Monitor::Current => 13,
             }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::regs::id;
+    use crate::slave::{AdcSample, Core, EdgeSample, Inputs, Outputs, RegisterFile, TICK_US};
+
+    /// Runs a board for `ticks` ms with writes, pot movement and encoder edges; returns
+    /// every tick's outputs and register file contents.
+    fn run<B: Board>(board: B, writes: &[(u8, u16)], ticks: u32) -> Vec<(Outputs, Vec<u16>)> {
+        let mut core = Core::new(board, 4);
+        let mut regs = RegisterFile::new(board);
+        let mut trace = Vec::new();
+        for t in 0..ticks {
+            if t == 700 {
+                for &(reg, raw) in writes {
+                    regs.start_write();
+                    regs.write(reg);
+                    let [lo, hi] = raw.to_le_bytes();
+                    regs.write(lo);
+                    regs.write(hi);
+                    regs.stop();
+                }
+            }
+            let pot = 300 + (t % 400) as u16;
+            let inputs = Inputs {
+                edges: EdgeSample {
+                    rising: (t % 3) as u16,
+                    b_high: 0,
+                    last_edge_us: t * TICK_US,
+                },
+                adc: AdcSample {
+                    current: [40, 60],
+                    current_peak: [45, 70],
+                    ch6: pot,
+                    ch7: 1023 - pot,
+                },
+            };
+            let out = core.tick(t * TICK_US, &inputs, &mut regs);
+            trace.push((out, (0..regs.len()).map(|r| regs.get(r)).collect()));
+        }
+        trace
+    }
+
+    #[test]
+    fn build_time_boards_behave_as_the_run_time_variant() {
+        // REG_RESET bit 0 leaves the boot exception; then gains and demands.
+        let ds = [
+            (id::REG_RESET, 1),
+            (id::REGDS_DRIVE_REQSPEED, 0x9000),
+            (id::REGDS_DRIVE_PGAIN, 0x0041),
+            (id::REGDS_STEER_REQPOS, 0x8800),
+            (id::REGDS_STEER_IGAIN, 0x3332),
+        ];
+        let a = run(DriveSteerBoard, &ds, 1_500);
+        let b = run(Variant::DriveSteer, &ds, 1_500);
+        assert!(a == b, "drive/steer differs");
+        let last = &a[a.len() - 1];
+        assert_eq!(last.1[usize::from(id::REG_STATUS)], STATUS_DRIVE_STEER);
+        let ll = [
+            (id::REG_RESET, 1),
+            (id::REGLL_ONE_REQPOS, 0x9000),
+            (id::REGLL_ONE_PGAIN, 0x7000),
+            (id::REGLL_TWO_REQPOS, 0x7000),
+        ];
+        let a = run(LiftLiftBoard, &ll, 1_500);
+        let b = run(Variant::LiftLift, &ll, 1_500);
+        assert!(a == b, "lift/lift differs");
+        let last = &a[a.len() - 1];
+        assert_eq!(last.1[usize::from(id::REG_STATUS)], STATUS_LIFT_LIFT);
+        assert!(last.0.motors.iter().any(|m| m.duty() > 0), "the lifts move");
     }
 }

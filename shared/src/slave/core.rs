@@ -19,15 +19,28 @@
 //! sees every sample through the per-tick peak. REG_TIMER, INTERVALI2C, STATUS,
 //! EXCEPTIONDATA, DEBUG, CURRENT and ODO are written every tick; a motor's mapped
 //! monitoring registers (ACTUAL…INTERVALCTRL) and CHASSIS at most every 10 ms, from the
-//! update at hand, since mapping is the costliest arithmetic on the AVR.
+//! update at hand, since mapping is the costliest arithmetic on the AVR (and a motor's
+//! only where the value changed since it was last mapped).
 //!
-//! **Cost on the ATmega328P** (measured in the emulator, 16 MHz): a tick without a
-//! controller update takes about 2,000 cycles (125 µs), a position update about 2,700
-//! more with the calibrate() gains and about 4,000 with every gain non-zero, a drive
-//! update about 7,000. A drive/steer board spends about 23 % of the CPU here, a
-//! lift/lift board about 36 % with every gain non-zero.
+//! **Cost on the ATmega328P** (measured in the emulator, 16 MHz, calibrate() gains): a
+//! drive/steer tick without a controller update takes about 1,170 cycles (73 µs); a
+//! position update at rest (the same pot reading, every term 0: see [`Motor::holds`])
+//! about 320 more, 530 when its monitoring values are due; a moving position update
+//! about 2,000 more; a drive update (window mode, every 150 ms) about 4,600 more. Drive
+//! at 1000 ticks/s and the steer settled: mean 1,400, max 6,100 cycles a tick (9 % of
+//! the CPU); the steer moving: mean 2,320, max 7,600 (15 %). A lift/lift board with both
+//! lifts working updates one of them every tick: about 2,970 cycles a tick (19 %). What
+//! keeps the common tick short: each motor's two current filters share one step while
+//! they agree, the LED levels are kept until a deadline or the exception latch changes
+//! them, a pot reading equal to the last one reuses its angle, a motor's monitoring
+//! values are remapped only where they changed, and 32-bit products are built from the
+//! hardware multiplier ([`super::product`]).
+//!
+//! **Variant at build time.** `Core<B: Board>`: the firmware builds with a zero-sized
+//! board type, so every `match` on the variant and on a motor's [`Kind`] folds away and
+//! the lift image carries no drive code; host tests use [`Variant`] itself.
 
-use super::board::{bus_address, Layout, Monitor, MotorId, Variant};
+use super::board::{bus_address, Board, Layout, Monitor, MotorId, Variant};
 use super::clock::Clock;
 use super::encoder::{DriveMode, Odometer, SpeedMeter};
 use super::fault::FAULT_TIME_POWER_ON_MS;
@@ -36,6 +49,7 @@ use super::leds::{self, LedLevels, Leds};
 use super::motor::{Kind, Motor, UpdateContext};
 use super::registers::RegisterFile;
 use super::scale::Scale;
+use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
 use super::state::{Cause, Event, LocalFault, ResetBits, State};
 use crate::pid::Fix;
 use crate::regs::{id, DS};
@@ -54,17 +68,23 @@ const CHASSIS_PERIOD_MS: u32 = 10;
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 struct Pending {
     ping: bool,
+    /// A bus transaction addressed this board (see [`Core::bus_heard`]).
+    heard: bool,
     debug_led: Option<u8>,
 }
 
-/// One slave board's logic.
+/// One slave board's logic, for a variant `B` chosen at run time ([`Variant`], the
+/// default) or at build time (see [`Board`]).
 #[derive(Clone, Debug)]
-pub struct Core {
-    variant: Variant,
+pub struct Core<B: Board = Variant> {
+    board: B,
     address: Option<u8>,
     state: State,
     disabled: u16,
     fault_time_ms: u16,
+    /// BUSTIMEOUT, ms (0 = off).
+    bus_timeout_ms: u16,
+    silence: SilenceWatch,
     drive_mode: DriveMode,
     clock: Clock,
     leds: Leds,
@@ -78,28 +98,29 @@ pub struct Core {
     pending: Pending,
 }
 
-impl Core {
-    /// The logic of a board of `variant` whose EEPROM byte 0 is `eeprom_byte`, at
+impl<B: Board> Core<B> {
+    /// The logic of a board of variant `board` whose EEPROM byte 0 is `eeprom_byte`, at
     /// power-up: in the boot exception, every parameter at its default (reference §8.1).
     /// With an address outside 1..9 the board stays off the bus: the firmware must not
     /// enable the TWI (see [`Core::address`]), and every tick stops the motors and shows
     /// the bad-address LED pattern.
-    pub fn new(variant: Variant, eeprom_byte: u8) -> Core {
-        let m1 = if variant.has_drive() {
-            Kind::Drive
-        } else {
-            Kind::Position
-        };
+    pub fn new(board: B, eeprom_byte: u8) -> Core<B> {
+        let variant = board.variant();
         Core {
-            variant,
+            board,
             address: bus_address(eeprom_byte),
             state: State::POWER_UP,
             disabled: 0,
             fault_time_ms: FAULT_TIME_POWER_ON_MS,
+            bus_timeout_ms: BUS_TIMEOUT_POWER_ON_MS,
+            silence: SilenceWatch::new(),
             drive_mode: DriveMode::Window,
             clock: Clock::new(),
             leds: Leds::new(0),
-            motors: [Motor::new(m1), Motor::new(Kind::Position)],
+            motors: [
+                Motor::new(Kind::of(variant, MotorId::M1)),
+                Motor::new(Kind::of(variant, MotorId::M2)),
+            ],
             next_position_us: [0; 2],
             speed: SpeedMeter::new(0),
             odometer: Odometer::new(),
@@ -107,6 +128,7 @@ impl Core {
             chassis_at_ms: 0,
             pending: Pending {
                 ping: false,
+                heard: false,
                 debug_led: None,
             },
         }
@@ -118,8 +140,9 @@ impl Core {
     }
 
     /// The board's variant.
+    #[inline(always)]
     pub fn variant(&self) -> Variant {
-        self.variant
+        self.board.variant()
     }
 
     /// The exception state.
@@ -142,8 +165,20 @@ impl Core {
         self.clock.ms()
     }
 
+    /// A bus transaction addressed this board (SLA+W or SLA+R) since the previous tick:
+    /// the firmware's TWI task notes it and the tick passes it on before
+    /// [`Core::step`], which restarts the bus-silence count (see [`super::silence`]).
+    pub fn bus_heard(&mut self) {
+        self.pending.heard = true;
+    }
+
+    /// The bus-silence watch, for inspection.
+    pub fn silence(&self) -> SilenceWatch {
+        self.silence
+    }
+
     /// Runs a whole tick: [`Core::take_writes`], [`Core::step`], [`Core::publish`].
-    pub fn tick(&mut self, now_us: u32, inputs: &Inputs, regs: &mut RegisterFile) -> Outputs {
+    pub fn tick(&mut self, now_us: u32, inputs: &Inputs, regs: &mut RegisterFile<B>) -> Outputs {
         self.take_writes(regs);
         let outputs = self.step(now_us, inputs);
         self.publish(regs);
@@ -152,21 +187,30 @@ impl Core {
 
     /// Phase 1: applies the registers the bus changed since the previous tick, lowest id
     /// first, and clears their marks.
-    pub fn take_writes(&mut self, regs: &mut RegisterFile) {
+    pub fn take_writes(&mut self, regs: &mut RegisterFile<B>) {
         if self.address.is_none() {
             return;
         }
         while let Some(reg) = regs.take_changed() {
             let raw = regs.get(reg);
-            self.apply(reg, raw, regs);
+            if reg == id::REG_RESET {
+                regs.set(id::REG_RESET, 0);
+            }
+            self.apply(reg, raw);
         }
     }
 
-    fn apply(&mut self, reg: u8, raw: u16, regs: &mut RegisterFile) {
+    /// Applies one register the bus wrote, as [`Core::take_writes`] does for each: for
+    /// firmware that takes the change marks and reads the registers one by one. The
+    /// caller clears REG_RESET in the file after reading it. Ignored without an address.
+    #[inline(never)]
+    pub fn apply(&mut self, reg: u8, raw: u16) {
+        if self.address.is_none() {
+            return;
+        }
         let low = raw.to_le_bytes()[0];
         match reg {
             id::REG_RESET => {
-                regs.set(id::REG_RESET, 0);
                 let bits = ResetBits(low);
                 if let Some(event) = bits.event() {
                     self.state.handle(event, self.disabled);
@@ -182,15 +226,16 @@ impl Core {
             id::REG_DISABLEDEXCEPTIONS => self.disabled = raw,
             id::REG_PING => self.pending.ping = true,
             _ if reg == self.fault_time_id() => self.fault_time_ms = raw,
-            id::REGDS_DRIVE_MODE if self.variant.has_drive() => {
+            _ if reg == self.bus_timeout_id() => self.bus_timeout_ms = raw,
+            id::REGDS_DRIVE_MODE if self.variant().has_drive() => {
                 self.drive_mode = DriveMode::from_register(raw)
             }
             _ => {
                 for motor in MotorId::BOTH {
-                    let layout = Layout::of(self.variant, motor);
+                    let layout = Layout::of(self.variant(), motor);
                     if let Some(param) = layout.param(reg) {
                         let m = &mut self.motors[motor.index()];
-                        m.params.set(m.kind, param, raw);
+                        m.set_param(Kind::of(self.board.variant(), motor), param, raw);
                     }
                 }
             }
@@ -198,9 +243,16 @@ impl Core {
     }
 
     fn fault_time_id(&self) -> u8 {
-        match self.variant {
+        match self.variant() {
             Variant::DriveSteer => id::REGDS_FAULTTIME,
             Variant::LiftLift => id::REGLL_FAULTTIME,
+        }
+    }
+
+    fn bus_timeout_id(&self) -> u8 {
+        match self.variant() {
+            Variant::DriveSteer => id::REGDS_BUSTIMEOUT,
+            Variant::LiftLift => id::REGLL_BUSTIMEOUT,
         }
     }
 
@@ -226,14 +278,17 @@ impl Core {
             };
         }
         self.take_pending(now_ms);
-
-        for motor in MotorId::BOTH {
-            let i = motor.index();
-            let fault =
-                self.motors[i].sense_current(inputs.adc.current[i], inputs.adc.current_peak[i]);
-            self.raise(fault, motor);
+        if matches!(self.state, State::Running { .. })
+            && self.silence.expired(now_ms, self.bus_timeout_ms)
+        {
+            self.state.handle(Event::BusSilence, self.disabled);
         }
-        if self.variant.has_drive() {
+
+        // Per motor, written out twice rather than looped: each motor's fields are then
+        // at fixed addresses on the AVR, with no index arithmetic.
+        self.sense_current(MotorId::M1, inputs);
+        self.sense_current(MotorId::M2, inputs);
+        if self.variant().has_drive() {
             self.odometer.add(inputs.edges.rising);
             self.speed.accumulate(&inputs.edges);
             if now_ms.wrapping_sub(self.chassis_at_ms) >= CHASSIS_PERIOD_MS {
@@ -246,18 +301,8 @@ impl Core {
                 self.update_motor(MotorId::M1, speed, now_us, now_ms);
             }
         }
-        for motor in MotorId::BOTH {
-            if self.motors[motor.index()].kind == Kind::Position && self.position_due(motor, now_us)
-            {
-                let reading = match (self.variant, motor) {
-                    (Variant::LiftLift, MotorId::M2) => inputs.adc.ch7,
-                    _ => inputs.adc.ch6,
-                };
-                let m = &self.motors[motor.index()];
-                let angle = m.params.calibration.angle(reading);
-                self.update_motor(motor, angle, now_us, now_ms);
-            }
-        }
+        self.update_position(MotorId::M1, inputs, now_us, now_ms);
+        self.update_position(MotorId::M2, inputs, now_us, now_ms);
 
         let motors = [self.output(MotorId::M1), self.output(MotorId::M2)];
         let [m1, m2] = &mut self.motors;
@@ -265,7 +310,9 @@ impl Core {
         m2.set_applied(motors[1].duty());
         Outputs {
             motors,
-            leds: self.leds.levels(now_ms, address, self.variant, &self.state),
+            leds: self
+                .leds
+                .levels(now_ms, address, self.variant(), &self.state),
             watchdog: Watchdog::Feed,
         }
     }
@@ -274,34 +321,68 @@ impl Core {
     /// EXCEPTIONDATA and DEBUG. A motor's mapped monitoring registers (read-only to the
     /// bus) are written only when they were remapped since the previous publish, so
     /// `regs` must be the same file every tick.
-    pub fn publish(&mut self, regs: &mut RegisterFile) {
+    pub fn publish(&mut self, regs: &mut RegisterFile<B>) {
         if self.address.is_none() {
             return;
         }
         regs.set(id::REG_TIMER, self.clock.ms() as u16);
         regs.set(id::REG_INTERVALI2C, self.clock.interval_us() as u16);
         let exception = if self.state.in_exception() { 1 } else { 0 };
-        regs.set(id::REG_STATUS, self.variant.status_bit() | exception);
+        regs.set(id::REG_STATUS, self.variant().status_bit() | exception);
         regs.set(id::REG_EXCEPTIONDATA, self.state.data());
-        let debug = match self.variant {
+        let debug = match self.variant() {
             Variant::DriveSteer => 0,
             Variant::LiftLift => self.motors[0].monitors().interval_ms,
         };
         regs.set(id::REG_DEBUG, debug);
-        for motor in MotorId::BOTH {
-            let layout = Layout::of(self.variant, motor);
-            let m = &mut self.motors[motor.index()];
-            if m.take_fresh() {
-                regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
-            }
-            regs.set(layout.monitor_id(Monitor::Current), u16::from(m.current()));
-        }
-        if self.variant.has_drive() {
+        self.publish_motor(MotorId::M1, regs);
+        self.publish_motor(MotorId::M2, regs);
+        if self.variant().has_drive() {
             regs.set(id::REGDS_DRIVE_ODO, self.odometer.reading());
             regs.set(id::REGDS_CHASSIS, self.chassis);
         }
     }
 
+    /// A motor's monitoring registers (see [`Core::publish`]).
+    #[inline(always)]
+    fn publish_motor(&mut self, motor: MotorId, regs: &mut RegisterFile<B>) {
+        let layout = Layout::of(self.variant(), motor);
+        let m = &mut self.motors[motor.index()];
+        if m.take_fresh() {
+            regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
+        }
+        regs.set(layout.monitor_id(Monitor::Current), u16::from(m.current()));
+    }
+
+    /// A tick's current readings into a motor's filters and the overcurrent rule.
+    #[inline(always)]
+    fn sense_current(&mut self, motor: MotorId, inputs: &Inputs) {
+        let i = motor.index();
+        let fault = self.motors[i].sense_current(inputs.adc.current[i], inputs.adc.current_peak[i]);
+        self.raise(fault, motor);
+    }
+
+    /// A position motor's update, when due.
+    #[inline(always)]
+    fn update_position(&mut self, motor: MotorId, inputs: &Inputs, now_us: u32, now_ms: u32) {
+        if Kind::of(self.variant(), motor) == Kind::Position && self.position_due(motor, now_us) {
+            let reading = match (self.variant(), motor) {
+                (Variant::LiftLift, MotorId::M2) => inputs.adc.ch7,
+                _ => inputs.adc.ch6,
+            };
+            let cx = self.context(now_us, now_ms);
+            let m = &mut self.motors[motor.index()];
+            let angle = m.angle(reading);
+            if m.holds(angle, &cx) {
+                // At rest: no controller arithmetic, no fault check (see `Motor::holds`).
+                m.hold(Kind::Position, angle, &cx);
+            } else {
+                self.update_motor(motor, angle, now_us, now_ms);
+            }
+        }
+    }
+
+    #[inline(never)]
     fn start(&mut self, now_us: u32, now_ms: u32) {
         self.leds = Leds::new(now_ms);
         self.speed = SpeedMeter::new(now_us);
@@ -310,16 +391,29 @@ impl Core {
             m.start(now_us);
         }
         let first = now_us.wrapping_add(POSITION_PERIOD_US);
-        self.next_position_us = match self.variant {
+        self.next_position_us = match self.variant() {
             Variant::DriveSteer => [first, first],
             // ONE and TWO on alternate ticks.
             Variant::LiftLift => [first, first.wrapping_add(TICK_US)],
         };
     }
 
+    #[inline(always)]
     fn take_pending(&mut self, now_ms: u32) {
+        if self.pending != Pending::default() {
+            self.take_requests(now_ms);
+        }
+    }
+
+    /// What the bus asked for since the previous tick (most ticks: nothing, and no call).
+    #[inline(never)]
+    fn take_requests(&mut self, now_ms: u32) {
         if core::mem::take(&mut self.pending.ping) {
             self.leds.ping(now_ms);
+            self.silence.ping(now_ms);
+        }
+        if core::mem::take(&mut self.pending.heard) {
+            self.silence.heard(now_ms);
         }
         if let Some(value) = self.pending.debug_led.take() {
             self.leds.debug(now_ms, value);
@@ -341,14 +435,20 @@ impl Core {
         true
     }
 
-    fn update_motor(&mut self, motor: MotorId, actual: Fix, now_us: u32, now_ms: u32) {
-        let cx = UpdateContext {
+    #[inline(always)]
+    fn context(&self, now_us: u32, now_ms: u32) -> UpdateContext {
+        UpdateContext {
             now_us,
             now_ms,
             in_exception: self.state.in_exception(),
             fault_time_ms: self.fault_time_ms,
-        };
-        let fault = self.motors[motor.index()].update(actual, &cx);
+        }
+    }
+
+    fn update_motor(&mut self, motor: MotorId, actual: Fix, now_us: u32, now_ms: u32) {
+        let cx = self.context(now_us, now_ms);
+        let kind = Kind::of(self.variant(), motor);
+        let fault = self.motors[motor.index()].update_as(kind, actual, &cx);
         self.raise(fault, motor);
     }
 

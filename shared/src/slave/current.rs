@@ -21,6 +21,7 @@ impl CurrentFilter {
     }
 
     /// Feeds one raw ADC sample, with the original's wrap.
+    #[inline(always)]
     pub fn push(&mut self, sample: u16) {
         self.feed(sample as u8);
     }
@@ -29,7 +30,17 @@ impl CurrentFilter {
     /// fault detector uses this one, so that a stalled motor drawing 256 counts is not
     /// taken for a motor drawing none.
     pub fn push_saturating(&mut self, sample: u16) {
-        self.feed(sample.min(255) as u8);
+        self.feed_outlined(sample.min(255) as u8);
+    }
+
+    /// [`CurrentFilter::push`], with the step not inlined: for the rare paths.
+    pub fn push_outlined(&mut self, sample: u16) {
+        self.feed_outlined(sample as u8);
+    }
+
+    #[inline(never)]
+    fn feed_outlined(&mut self, c: u8) {
+        self.feed(c);
     }
 
     /// The filtered current, 0..255 (what CURRENT shows).
@@ -39,18 +50,29 @@ impl CurrentFilter {
 
     /// One step with c = the sample mod 256, so q = 256·c.
     ///
-    /// In 16-bit arithmetic only: ⌊(256 − p)·f/256⌋ = f − ⌈p·f/256⌉, and with f = 256·h + l,
-    /// ⌈p·f/256⌉ = p·h + ⌈p·l/256⌉; ⌊q·p/256⌋ = p·c exactly. Every product is at most
-    /// 25·255, and the result at most max(f, q).
+    /// In 8-bit products only. With f = 256·h + l: q > f exactly when c > h;
+    /// ⌊(256 − p)·f/256⌋ = f − p·h − ⌈p·l/256⌉; ⌊q·p/256⌋ = p·c exactly. So
+    /// f' = f ± p·|c − h| − ⌈p·l/256⌉, where each product is one 8×8-bit hardware
+    /// multiply on the AVR (p a constant in each branch), and the result is at most
+    /// max(f, q), so no step wraps.
+    #[inline(always)]
     fn feed(&mut self, c: u8) {
-        let f = self.f;
-        let q = u16::from(c) << 8;
-        // p once per step; each product is one 8×8-bit hardware multiply on the AVR.
-        let p: u8 = if q > f { 25 } else { 2 };
-        let times_p = |x: u8| -> u16 { u16::from(x) * u16::from(p) };
-        let [low, high] = f.to_le_bytes();
-        let fall = times_p(high) + ((times_p(low) + 255) >> 8);
-        self.f = f.wrapping_sub(fall).wrapping_add(times_p(c));
+        let [low, high] = self.f.to_le_bytes();
+        let byte = |x: u8, y: u8| u16::from(x) * u16::from(y);
+        // ⌈x/256⌉ of a product x < 2^16: its high byte, plus one if its low byte is not 0.
+        let ceil_256 = |x: u16| {
+            let [lo, hi] = x.to_le_bytes();
+            u16::from(hi) + u16::from(lo != 0)
+        };
+        self.f = if c > high {
+            // Rising: p = 25 (0.1).
+            let fall = ceil_256(byte(25, low));
+            self.f.wrapping_add(byte(25, c - high)).wrapping_sub(fall)
+        } else {
+            // Falling or steady: p = 2 (0.01).
+            let fall = ceil_256(byte(2, low));
+            self.f.wrapping_sub(byte(2, high - c)).wrapping_sub(fall)
+        };
     }
 }
 
@@ -63,5 +85,28 @@ pub fn overcurrent(sample: u16, threshold: u16, duty: u8) -> Option<LocalFault> 
         Some(LocalFault::Overcurrent)
     } else {
         Some(LocalFault::ShortOc)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reference formula, in wide arithmetic.
+    fn reference(f: u16, c: u8) -> u16 {
+        let (f, q) = (u32::from(f), u32::from(c) << 8);
+        let p = if q > f { 25 } else { 2 };
+        ((256 - p) * f / 256 + q * p / 256) as u16
+    }
+
+    #[test]
+    fn every_step_equals_the_reference_formula() {
+        for f in 0..=u16::MAX {
+            for c in 0..=u8::MAX {
+                let mut filter = CurrentFilter { f };
+                filter.feed(c);
+                assert_eq!(filter.f, reference(f, c), "f = {f}, c = {c}");
+            }
+        }
     }
 }

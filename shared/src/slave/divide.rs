@@ -4,8 +4,75 @@
 //! more than 1 KB of flash. The slave divides rarely (a register write, a drive update,
 //! the first tick, a late tick), so a 32-step shift-and-subtract loop of a few dozen
 //! bytes serves them all, with the same result as `/` and `%`.
+//!
+//! On the AVR the loop is written out in instructions (some 20 cycles a step, 650 a
+//! division): LLVM's code for the same loop takes some 75 cycles a step. The crate
+//! denies `unsafe`; this module allows it for that one `asm!` block, as `progmem` does
+//! for its flash reads.
+#![allow(unsafe_code)]
+
+use super::product::wide;
 
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
+#[cfg(target_arch = "avr")]
+#[inline(never)]
+pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
+    if d == 0 {
+        return (u32::MAX, n);
+    }
+    let (mut q_lo, mut q_hi) = (n as u16, (n >> 16) as u16);
+    let (r_lo, r_hi): (u16, u16);
+    // SAFETY: register arithmetic only (no memory, no stack, r0/r1 untouched): the
+    // same restoring division as the portable version below, one quotient bit a step.
+    // A bit carried out of the remainder (only when d > 2^31) means it exceeds d.
+    unsafe {
+        core::arch::asm!(
+            "clr {r_lo:l}",
+            "clr {r_lo:h}",
+            "movw {r_hi:l}, {r_lo:l}",
+            "ldi {count}, 32",
+            "1:",
+            "lsl {q_lo:l}",
+            "rol {q_lo:h}",
+            "rol {q_hi:l}",
+            "rol {q_hi:h}",
+            "rol {r_lo:l}",
+            "rol {r_lo:h}",
+            "rol {r_hi:l}",
+            "rol {r_hi:h}",
+            "brcs 2f",
+            "cp {r_lo:l}, {d_lo:l}",
+            "cpc {r_lo:h}, {d_lo:h}",
+            "cpc {r_hi:l}, {d_hi:l}",
+            "cpc {r_hi:h}, {d_hi:h}",
+            "brcs 3f",
+            "2:",
+            "sub {r_lo:l}, {d_lo:l}",
+            "sbc {r_lo:h}, {d_lo:h}",
+            "sbc {r_hi:l}, {d_hi:l}",
+            "sbc {r_hi:h}, {d_hi:h}",
+            "inc {q_lo:l}",
+            "3:",
+            "dec {count}",
+            "brne 1b",
+            q_lo = inout(reg_pair) q_lo,
+            q_hi = inout(reg_pair) q_hi,
+            d_lo = in(reg_pair) d as u16,
+            d_hi = in(reg_pair) (d >> 16) as u16,
+            r_lo = out(reg_pair) r_lo,
+            r_hi = out(reg_pair) r_hi,
+            count = out(reg_upper) _,
+            options(pure, nomem, nostack),
+        );
+    }
+    (
+        u32::from(q_hi) << 16 | u32::from(q_lo),
+        u32::from(r_hi) << 16 | u32::from(r_lo),
+    )
+}
+
+/// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
+#[cfg(not(target_arch = "avr"))]
 #[inline(never)]
 pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
     if d == 0 {
@@ -47,15 +114,30 @@ pub fn fraction(mut rem: u32, d: u32, bits: u8) -> u32 {
 }
 
 /// `⌊us / 1000⌋`. Below 2^19 µs (every update interval but a stalled one) without a
-/// division: ⌊(us/8)/125⌋ by a reciprocal multiply, some 40 cycles on the AVR.
+/// division: ⌊(us/8)/125⌋ by a reciprocal multiply, in 16 bits below 2^16 µs.
+#[inline(always)]
 pub fn div_1000(us: u32) -> u32 {
+    if us < 1 << 16 {
+        // Every update interval but the drive's window: y = ⌊us/8⌋ < 2^13, and
+        // ⌊y/125⌋ = ⌊y·8389/2^20⌋ for every such y (tested exhaustively), one 16×16-bit
+        // product whose high half is shifted.
+        let y = (us as u16) >> 3;
+        return u32::from(((wide(y, 8389) >> 16) as u16) >> 4);
+    }
+    div_1000_long(us)
+}
+
+/// [`div_1000`] from 2^16 µs on.
+#[inline(never)]
+fn div_1000_long(us: u32) -> u32 {
     if us >= 1 << 19 {
         return div_rem(us, 1000).0;
     }
     // y < 2^16. ⌊y/125⌋ = ⌊y·67109/2^23⌋ for every such y (tested exhaustively); with
-    // 67109 = 2^16 + 1573 the product is split so nothing exceeds 32 bits.
-    let y = us >> 3;
-    (y + ((y * 1573) >> 16)) >> 7
+    // 67109 = 2^16 + 1573 the product is split so nothing exceeds 32 bits, and y·1573
+    // is a 16×16-bit product.
+    let y = (us >> 3) as u16;
+    (u32::from(y) + (wide(y, 1573) >> 16)) >> 7
 }
 
 #[cfg(test)]

@@ -173,6 +173,7 @@ impl SpeedMeter {
     }
 
     /// Measures the speed (ticks/s) at an update and starts the next interval.
+    #[inline(never)]
     pub fn measure(&mut self, now_us: u32, mode: DriveMode) -> Fix {
         let n = u32::from(self.rising);
         let magnitude = match mode {

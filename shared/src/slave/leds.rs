@@ -79,12 +79,20 @@ fn before(now_ms: u32, deadline: u32) -> bool {
 }
 
 /// The timed LED sources of a slave with a good address.
+///
+/// The levels change only when the ms clock reaches one of the deadlines, when the
+/// exception latch changes, or on a ping or a debug write; [`Leds::levels`] keeps its
+/// last result until then, so most ticks only compare.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Leds {
     display_until: u32,
     ping_until: Option<u32>,
     debug: Option<(Led, u32)>,
     heartbeat_at: u32,
+    /// The last levels, valid before `valid_until` while the latch shows `latch`.
+    shown: LedLevels,
+    latch: LedLevels,
+    valid_until: u32,
 }
 
 impl Leds {
@@ -95,12 +103,16 @@ impl Leds {
             ping_until: None,
             debug: None,
             heartbeat_at: now_ms.wrapping_add(BOOT_DISPLAY_MS),
+            shown: LedLevels::OFF,
+            latch: LedLevels::OFF,
+            valid_until: now_ms,
         }
     }
 
     /// REG_PING was written.
     pub fn ping(&mut self, now_ms: u32) {
         self.ping_until = Some(now_ms.wrapping_add(PING_MS));
+        self.valid_until = now_ms;
     }
 
     /// REG_DEBUGLED was written: 0 lights LED1, 1 lights LED2, other values do nothing.
@@ -111,6 +123,7 @@ impl Leds {
             _ => return,
         };
         self.debug = Some((led, now_ms.wrapping_add(DEBUG_LED_MS)));
+        self.valid_until = now_ms;
     }
 
     /// The levels at `now_ms`, called once per tick.
@@ -121,16 +134,40 @@ impl Leds {
         variant: Variant,
         state: &State,
     ) -> LedLevels {
+        let latch = latch(state);
+        if before(now_ms, self.valid_until) && latch == self.latch {
+            return self.shown;
+        }
+        let (levels, valid_until) = self.compute(now_ms, address, variant, latch);
+        self.shown = levels;
+        self.latch = latch;
+        self.valid_until = valid_until;
+        levels
+    }
+
+    /// The levels at `now_ms` with the latch showing `latch`, and the first ms at which
+    /// they may change. Not inlined: it runs only when they may.
+    #[inline(never)]
+    fn compute(
+        &mut self,
+        now_ms: u32,
+        address: u8,
+        variant: Variant,
+        latch: LedLevels,
+    ) -> (LedLevels, u32) {
         if before(now_ms, self.display_until) {
-            return LedLevels {
+            let display = LedLevels {
                 led1: address & 1 != 0,
                 led2: address & 2 != 0,
             };
+            return (display, self.display_until);
         }
-        let mut levels = latch(state);
+        let mut levels = latch;
+        let mut next = self.heartbeat_at;
         if let Some(until) = self.ping_until {
             if before(now_ms, until) {
                 levels = levels.or(LedLevels::one(ping_led(variant)));
+                next = earliest(next, until);
             } else {
                 self.ping_until = None;
             }
@@ -138,6 +175,7 @@ impl Leds {
         if let Some((led, until)) = self.debug {
             if before(now_ms, until) {
                 levels = levels.or(LedLevels::one(led));
+                next = earliest(next, until);
             } else {
                 self.debug = None;
             }
@@ -145,8 +183,19 @@ impl Leds {
         if !before(now_ms, self.heartbeat_at) {
             self.heartbeat_at = now_ms.wrapping_add(HEARTBEAT_MS);
             levels.led2 = true;
+            // Lit for this tick only.
+            next = now_ms.wrapping_add(1);
         }
-        levels
+        (levels, next)
+    }
+}
+
+/// The earlier of two deadlines on a wrapping ms clock.
+fn earliest(a: u32, b: u32) -> u32 {
+    if before(a, b) {
+        a
+    } else {
+        b
     }
 }
 
@@ -165,7 +214,7 @@ pub fn latch(state: &State) -> LedLevels {
         State::Exception(Cause::Boot) | State::Running { .. } | State::Restarting { .. } => {
             LedLevels::OFF
         }
-        State::Exception(Cause::Remote) => LedLevels {
+        State::Exception(Cause::Remote | Cause::BusSilent) => LedLevels {
             led1: true,
             led2: true,
         },
@@ -182,5 +231,49 @@ pub fn bad_address(phase_ms: u32) -> LedLevels {
     LedLevels {
         led1: (BAD_LED1_FROM_MS..BAD_LED2_FROM_MS).contains(&phase),
         led2: phase >= BAD_LED2_FROM_MS,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slave::state::LocalFault;
+
+    #[test]
+    fn kept_levels_equal_a_fresh_computation_every_tick() {
+        let states = [
+            State::POWER_UP,
+            State::Running { last: Cause::Boot },
+            State::Exception(Cause::Local {
+                fault: LocalFault::Stall,
+                motor: MotorId::M2,
+            }),
+            State::Running {
+                last: Cause::Remote,
+            },
+            State::Exception(Cause::Remote),
+        ];
+        let mut kept = Leds::new(5);
+        let mut fresh = Leds::new(5);
+        let mut lit = 0;
+        for t in 5..6_000u32 {
+            // Now and then a tick comes late and the clock skips a ms.
+            let now = t + t / 700;
+            let state = states[(t / 347) as usize % states.len()];
+            if t % 613 == 0 {
+                kept.ping(now);
+                fresh.ping(now);
+            }
+            if t % 421 == 0 {
+                let value = (t / 421 % 3) as u8;
+                kept.debug(now, value);
+                fresh.debug(now, value);
+            }
+            let a = kept.levels(now, 6, Variant::LiftLift, &state);
+            let (b, _) = fresh.compute(now, 6, Variant::LiftLift, latch(&state));
+            assert_eq!(a, b, "tick {t}");
+            lit += usize::from(a.led1) + usize::from(a.led2);
+        }
+        assert!(lit > 1_000, "the sources lit the LEDs {lit} times");
     }
 }

@@ -1,13 +1,13 @@
 //! One motor of a slave: its parameters, its controller and its monitoring values.
 
-use super::board::{Monitor, Param};
+use super::board::{Monitor, MotorId, Param, Variant};
 use super::current::CurrentFilter;
 use super::divide::div_1000;
 use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
-use super::pot::Calibration;
+use super::pot::{Calibration, ADC_MAX};
 use super::scale::Scale;
 use super::state::LocalFault;
-use crate::pid::{Duty, Fix, Gains, Pid};
+use crate::pid::{Duty, Fix, Gains, Pid, Step};
 use crate::regs::{id, DS};
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
@@ -50,6 +50,16 @@ const CONTROL: Scale = Scale::of(&DS, id::REGDS_DRIVE_CONTROL);
 const INTERVAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_INTERVALCTRL);
 
 impl Kind {
+    /// How a motor of a variant is controlled: the drive/steer board's M1 is the drive,
+    /// every other motor a position motor.
+    #[inline(always)]
+    pub const fn of(variant: Variant, motor: MotorId) -> Kind {
+        match (variant, motor) {
+            (Variant::DriveSteer, MotorId::M1) => Kind::Drive,
+            _ => Kind::Position,
+        }
+    }
+
     /// The scale of a mapped parameter register of this kind of motor.
     #[inline(always)]
     pub fn param_scale(self, param: Param) -> Scale {
@@ -117,21 +127,28 @@ impl Params {
     #[inline(never)]
     pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
         let scale = kind.param_scale(param);
-        let g = &mut self.gains;
         match param {
-            Param::Required => self.required = scale.unmap(raw),
-            Param::P => g.p = scale.unmap(raw),
-            Param::I => g.i = scale.unmap(raw),
-            Param::D => g.d = scale.unmap(raw),
-            Param::Cap => g.cap = scale.unmap(raw),
-            Param::Decay => g.decay = scale.unmap(raw),
-            Param::DeadZone => g.dead_zone = scale.unmap(raw),
             Param::Threshold => self.threshold = scale.unmap_int(raw),
             Param::StallCheck => {
                 self.stall_check = u8::try_from(scale.unmap_int(raw)).unwrap_or(u8::MAX)
             }
-            Param::CalibMin => self.calibration.set_min(scale.unmap(raw)),
-            Param::CalibMax => self.calibration.set_max(scale.unmap(raw)),
+            _ => {
+                // One conversion for every fixed-point parameter, then one store.
+                let value = scale.unmap(raw);
+                let g = &mut self.gains;
+                match param {
+                    Param::Required => self.required = value,
+                    Param::P => g.p = value,
+                    Param::I => g.i = value,
+                    Param::D => g.d = value,
+                    Param::Cap => g.cap = value,
+                    Param::Decay => g.decay = value,
+                    Param::DeadZone => g.dead_zone = value,
+                    Param::CalibMin => self.calibration.set_min(value),
+                    Param::CalibMax => self.calibration.set_max(value),
+                    Param::Threshold | Param::StallCheck => {}
+                }
+            }
         }
     }
 }
@@ -145,6 +162,9 @@ pub struct Monitors {
     /// INTERVALCTRL in ms, unmapped (LL's REG_DEBUG shows lift ONE's).
     pub interval_ms: u16,
 }
+
+/// [`Motor::angle`] has no reading: above any the ADC gives.
+const NO_READING: u16 = u16::MAX;
 
 /// Raw 0 in a symmetric range.
 const MID: u16 = 0x7fff;
@@ -189,7 +209,8 @@ pub struct UpdateContext {
 pub struct Motor {
     /// How it is controlled.
     pub kind: Kind,
-    /// Its parameters.
+    /// Its parameters: read them here, set them through [`Motor::set_param`] (which
+    /// forgets what depends on them).
     pub params: Params,
     pid: Pid,
     /// The CURRENT register's filter (with the original's wrap).
@@ -202,6 +223,15 @@ pub struct Motor {
     /// When the monitoring values were last mapped, µs.
     mapped_us: u32,
     monitors: Monitors,
+    /// What the monitoring values were last mapped from, if they were.
+    mapped_from: Option<MappedFrom>,
+    /// The last pot reading [`Motor::angle`] converted (clamped to the ADC's range;
+    /// [`NO_READING`] when none), and its angle.
+    angle_reading: u16,
+    angle: Fix,
+    /// The last update was a position update at rest ([`Step::REST`]) outside an
+    /// exception, and no parameter was set since.
+    at_rest: bool,
     /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
     fresh: bool,
     /// The duty the controller last asked for.
@@ -223,10 +253,43 @@ impl Motor {
             last_update_us: 0,
             mapped_us: 0,
             monitors: Monitors::POWER_ON,
+            mapped_from: None,
+            angle_reading: NO_READING,
+            angle: Fix::ZERO,
+            at_rest: false,
             fresh: true,
             demand: Duty::IDLE,
             applied: 0,
         }
+    }
+
+    /// Applies a written parameter register ([`Params::set`]).
+    pub fn set_param(&mut self, kind: Kind, param: Param, raw: u16) {
+        self.params.set(kind, param, raw);
+        self.angle_reading = NO_READING;
+        self.at_rest = false;
+    }
+
+    /// The angle of a pot reading, by the calibration ([`Calibration::angle`]). The last
+    /// conversion is kept, so a motor at rest (the same reading again) costs none; it
+    /// is forgotten when a parameter is set through [`Motor::set_param`], so the
+    /// calibration must change only through it.
+    #[inline(always)]
+    pub fn angle(&mut self, reading: u16) -> Fix {
+        // The angle treats every reading above the ADC's range as its top.
+        let reading = reading.min(ADC_MAX);
+        if reading == self.angle_reading {
+            return self.angle;
+        }
+        self.convert(reading)
+    }
+
+    /// [`Motor::angle`] of a new reading.
+    #[inline(never)]
+    fn convert(&mut self, reading: u16) -> Fix {
+        self.angle = self.params.calibration.angle(reading);
+        self.angle_reading = reading;
+        self.angle
     }
 
     /// Starts the interval clock at the board's first tick.
@@ -237,57 +300,61 @@ impl Motor {
 
     /// Feeds a tick's current readings; returns an overcurrent fault if the peak is above
     /// the threshold.
+    #[inline(always)]
     pub fn sense_current(&mut self, latest: u16, peak: u16) -> Option<LocalFault> {
-        self.current.push(latest);
-        self.level.push_saturating(latest);
+        if latest <= 255 && self.current == self.level {
+            // The usual case: both filters hold the same value and get the same sample
+            // (no wrap, no saturation), so one step serves both.
+            self.current.push(latest);
+            self.level = self.current;
+        } else {
+            self.push_apart(latest);
+        }
         super::current::overcurrent(peak, self.params.threshold, self.applied)
+    }
+
+    /// Feeds both filters, each its own way.
+    #[inline(never)]
+    fn push_apart(&mut self, latest: u16) {
+        self.current.push_outlined(latest);
+        self.level.push_saturating(latest);
     }
 
     /// One control update with the measured value (ticks/s or degrees). In exception the
     /// demand is overwritten first (position: required := actual; drive: required := 0)
     /// and CONTROL keeps the last applied duty. Returns a stall or sensor fault.
     pub fn update(&mut self, actual: Fix, cx: &UpdateContext) -> Option<LocalFault> {
+        self.update_as(self.kind, actual, cx)
+    }
+
+    /// [`Motor::update`] for a motor of `kind` (its own): the board passes the kind its
+    /// variant fixes, so that a build-time variant resolves it at compile time.
+    #[inline(always)]
+    pub fn update_as(&mut self, kind: Kind, actual: Fix, cx: &UpdateContext) -> Option<LocalFault> {
+        if self.holds(actual, cx) {
+            self.hold(kind, actual, cx);
+            return None;
+        }
         if cx.in_exception {
-            self.params.required = match self.kind {
+            self.params.required = match kind {
                 Kind::Drive => Fix::ZERO,
                 Kind::Position => actual,
             };
         }
         let gains = &self.params.gains;
-        let step = match self.kind {
+        let step = match kind {
             Kind::Drive => self.pid.speed(gains, self.params.required, actual),
             Kind::Position => self.pid.position(gains, self.params.required, actual),
         };
+        self.at_rest = kind == Kind::Position && !cx.in_exception && step.is_rest();
         self.demand = step.duty;
-        let interval_ms = interval_ms(cx.now_us.wrapping_sub(self.last_update_us));
-        self.last_update_us = cx.now_us;
-        self.monitors.interval_ms = interval_ms;
         let duty = if cx.in_exception {
             0
         } else {
             step.duty.magnitude
         };
-        // Mapping six values costs more than the update itself on the AVR, so the
-        // monitoring registers are refreshed from every update at most every 10 ms.
-        if cx.now_us.wrapping_sub(self.mapped_us) >= MONITOR_PERIOD_US {
-            self.mapped_us = cx.now_us;
-            self.fresh = true;
-            let kind = self.kind;
-            let map = |monitor, value| match kind.monitor_scale(monitor) {
-                Some(scale) => scale.map(value),
-                None => 0,
-            };
-            let m = &mut self.monitors;
-            m.raw[0] = map(Monitor::Actual, actual);
-            m.raw[1] = map(Monitor::Error, step.error);
-            m.raw[2] = map(Monitor::Integral, step.integral);
-            m.raw[3] = map(Monitor::Deriv, step.deriv);
-            m.raw[5] = INTERVAL.map_int(interval_ms);
-            if !cx.in_exception {
-                m.raw[4] = CONTROL.map_int(u16::from(duty));
-            }
-        }
-        let motion = match self.kind {
+        self.record(kind, actual, Some(&step), duty, cx);
+        let motion = match kind {
             Kind::Drive => Motion::Speed(actual),
             Kind::Position => Motion::Angle(actual),
         };
@@ -297,6 +364,73 @@ impl Motor {
         };
         self.fault
             .update(cx.now_ms, duty, motion, self.level.reading(), &limits)
+    }
+
+    /// Whether an update with `actual` holds the motor at rest: the last update was a
+    /// position update at rest ([`Step::REST`]) outside an exception, no parameter was
+    /// set since, and the measurement is the same. Such an update returns [`Step::REST`]
+    /// again and leaves the controller, the demand (duty 0) and the fault detector (which
+    /// a duty of 0 keeps reset) as they are: [`Motor::hold`], the interval and the
+    /// monitoring values, is all that is left of it.
+    #[inline(always)]
+    pub fn holds(&self, actual: Fix, cx: &UpdateContext) -> bool {
+        self.at_rest && !cx.in_exception && self.pid.last_actual() == actual
+    }
+
+    /// An update that [`Motor::holds`]: only the interval and the monitoring values.
+    #[inline(always)]
+    pub fn hold(&mut self, kind: Kind, actual: Fix, cx: &UpdateContext) {
+        self.record(kind, actual, None, 0, cx);
+    }
+
+    /// The interval since the previous update, and the monitoring values when due, for
+    /// an update's `step` (`None`: [`Step::REST`]). One copy for [`Motor::update_as`] and
+    /// [`Motor::hold`].
+    #[inline(never)]
+    fn record(
+        &mut self,
+        kind: Kind,
+        actual: Fix,
+        step: Option<&Step>,
+        duty: u8,
+        cx: &UpdateContext,
+    ) {
+        let interval_ms = interval_ms(cx.now_us.wrapping_sub(self.last_update_us));
+        self.last_update_us = cx.now_us;
+        self.monitors.interval_ms = interval_ms;
+        // Mapping six values costs more than the update itself on the AVR, so the
+        // monitoring registers are refreshed from every update at most every 10 ms.
+        if cx.now_us.wrapping_sub(self.mapped_us) >= MONITOR_PERIOD_US {
+            self.mapped_us = cx.now_us;
+            self.fresh = true;
+            // A value equal to the one last mapped keeps its raw value: a motor at rest
+            // maps nothing.
+            let all = self.mapped_from.is_none();
+            let from = self.mapped_from.get_or_insert(MappedFrom::ZERO);
+            let raw = &mut self.monitors.raw;
+            let scale = |monitor| kind.monitor_scale(monitor);
+            if all || from.actual != actual {
+                from.actual = actual;
+                raw[0] = map(scale(Monitor::Actual), actual);
+            }
+            let terms = step.map(|s| (s.error, s.integral, s.deriv));
+            let zero = terms.is_none_or(|t| t == (Fix::ZERO, Fix::ZERO, Fix::ZERO));
+            if all || !(zero && from.terms_zero) {
+                from.terms_zero = zero;
+                let (error, integral, deriv) = terms.unwrap_or((Fix::ZERO, Fix::ZERO, Fix::ZERO));
+                raw[1] = map(scale(Monitor::Error), error);
+                raw[2] = map(scale(Monitor::Integral), integral);
+                raw[3] = map(scale(Monitor::Deriv), deriv);
+            }
+            if all || from.interval_ms != interval_ms {
+                from.interval_ms = interval_ms;
+                raw[5] = INTERVAL.map_int(interval_ms);
+            }
+            if !cx.in_exception && (all || from.duty != Some(duty)) {
+                from.duty = Some(duty);
+                raw[4] = CONTROL.map_int(u16::from(duty));
+            }
+        }
     }
 
     /// The output for the motor while the slave runs normally.
@@ -336,6 +470,32 @@ impl Motor {
     }
 }
 
+/// The values a motor's monitoring registers were last mapped from.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct MappedFrom {
+    actual: Fix,
+    /// ERROR, ERRORINTEGRAL and ERRORDERIV were all 0 (as at rest).
+    terms_zero: bool,
+    interval_ms: u16,
+    /// CONTROL's duty (`None` until mapped: it is not mapped in exception).
+    duty: Option<u8>,
+}
+
+impl MappedFrom {
+    const ZERO: MappedFrom = MappedFrom {
+        actual: Fix::ZERO,
+        terms_zero: false,
+        interval_ms: 0,
+        duty: None,
+    };
+}
+
+/// A monitoring value's raw value (0 for CURRENT, which has no scale).
+#[inline(always)]
+fn map(scale: Option<Scale>, value: Fix) -> u16 {
+    scale.map_or(0, |scale| scale.map(value))
+}
+
 /// ⌊µs/1000⌋, saturating at 65535.
 fn interval_ms(us: u32) -> u16 {
     u16::try_from(div_1000(us)).unwrap_or(u16::MAX)
@@ -366,5 +526,46 @@ mod tests {
         m.update(Fix::from_num(14), &cx(12_000));
         assert!(m.take_fresh());
         assert_eq!(m.monitors().interval_ms, 8);
+    }
+
+    #[test]
+    fn updates_at_rest_equal_the_controller_s_own() {
+        let mut m = Motor::new(Kind::Position);
+        m.start(0);
+        // I 2, cap 300, decay 0.95, dead zone 0.5 (raw values as calibrate() sends).
+        for (param, raw) in [
+            (Param::I, 0x3332),
+            (Param::Cap, 0x4ccc),
+            (Param::Decay, 0xf331),
+            (Param::DeadZone, 0x02),
+            (Param::Required, 0x8ccc),
+        ] {
+            m.set_param(Kind::Position, param, raw);
+        }
+        let mut pid = Pid::new();
+        let gains = m.params.gains;
+        let required = m.params.required;
+        let mut rests = 0;
+        for k in 0..1_000u32 {
+            // Approach the demand, hold it (within the dead zone: the integral decays to
+            // 0 in a few hundred updates), move on.
+            let actual = match k {
+                0..=99 => required - Fix::from_num(100 - k),
+                100..=899 => required + Fix::from_num(0.25),
+                _ => required + Fix::from_num(k - 899),
+            };
+            let cx = UpdateContext {
+                now_us: 2_000 * (k + 1),
+                now_ms: 2 * (k + 1),
+                in_exception: false,
+                fault_time_ms: 500,
+            };
+            rests += usize::from(m.at_rest);
+            m.update(actual, &cx);
+            let step = pid.position(&gains, required, actual);
+            assert_eq!(m.pid(), &pid, "update {k}");
+            assert_eq!(m.demand(), step.duty, "update {k}");
+        }
+        assert!(rests > 100, "at rest {rests} times");
     }
 }

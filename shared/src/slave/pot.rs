@@ -1,5 +1,6 @@
 //! Potentiometer readings to angles (reference §7.3).
 
+use super::product::wide;
 use crate::pid::Fix;
 
 /// The highest reading of the 10-bit ADC.
@@ -49,12 +50,16 @@ impl Calibration {
 
     /// The angle of a reading: p·(max − min)/1024 + min, with p clamped to 0..1023.
     ///
-    /// One 32-bit integer multiplication: (span/64)·p/16 in 16.16 bits. Dropping the
-    /// span's 6 lowest bits costs less than 0.001°.
+    /// (span/64)·p/16 in 16.16 bits, the product from two 16×16-bit products (see
+    /// [`wide`]). Dropping the span's 6 lowest bits costs less than 0.001°.
     pub fn angle(&self, reading: u16) -> Fix {
-        let p = i32::from(reading.min(ADC_MAX));
-        // |span| ≤ 2^26 bits (±1024°), so |span/64·p| < 2^30.
+        let p = reading.min(ADC_MAX);
+        // |span| ≤ 2^26 bits (±1024°), so |span/64| ≤ 2^20 and |span/64·p| < 2^30.
         let span = self.span.to_bits().clamp(-(1 << 26), 1 << 26) >> 6;
-        Fix::from_bits((span * p) >> 4).saturating_add(self.min)
+        let magnitude = span.unsigned_abs();
+        let (high, low) = ((magnitude >> 16) as u16, magnitude as u16);
+        let product = ((wide(high, p) << 16) + wide(low, p)) as i32;
+        let product = if span < 0 { -product } else { product };
+        Fix::from_bits(product >> 4).saturating_add(self.min)
     }
 }

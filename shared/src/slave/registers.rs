@@ -18,7 +18,7 @@
 //! live in two-byte slots indexed by id (a one-byte register uses the first), so no
 //! offset table is needed.
 
-use super::board::Variant;
+use super::board::{Board, Variant};
 use crate::regs::{self, id, BoardKind};
 
 /// What a read of a missing register gives.
@@ -31,7 +31,9 @@ const SLOTS: usize = if regs::DS.len() > regs::LL.len() {
     regs::LL.len()
 };
 
-const _: () = assert!(SLOTS <= 64, "change marks are one u64");
+/// Change marks: one bit per slot, eight slots a byte (bytes, not a `u64`: 64-bit
+/// shifts and bit scans are long loops on the AVR).
+const MARK_BYTES: usize = SLOTS.div_ceil(8);
 
 /// Where the bus is within a transaction.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -46,13 +48,14 @@ enum Phase {
     Reading { id: u8, byte: u8 },
 }
 
-/// The registers of one slave, and the bus's view of them.
+/// The registers of one slave, and the bus's view of them, for a variant `B` chosen at
+/// run time ([`Variant`], the default) or at build time (see [`Board`]).
 #[derive(Clone, Debug)]
-pub struct RegisterFile {
-    board: BoardKind,
+pub struct RegisterFile<B: Board = Variant> {
+    board: B,
     len: u8,
     slots: [[u8; 2]; SLOTS],
-    changed: u64,
+    changed: [u8; MARK_BYTES],
     pointer: u8,
     phase: Phase,
     /// The byte that completes a register: the low byte while writing, the high byte
@@ -60,15 +63,15 @@ pub struct RegisterFile {
     held: u8,
 }
 
-impl RegisterFile {
+impl<B: Board> RegisterFile<B> {
     /// The register file of a variant at power-up (reference §8.1).
-    pub fn new(variant: Variant) -> RegisterFile {
-        let board = variant.board();
+    pub fn new(board: B) -> RegisterFile<B> {
+        let variant = board.variant();
         let mut file = RegisterFile {
             board,
-            len: board.len(),
+            len: variant.board().len(),
             slots: [[0; 2]; SLOTS],
-            changed: 0,
+            changed: [0; MARK_BYTES],
             pointer: 0,
             phase: Phase::Idle,
             held: 0,
@@ -77,6 +80,11 @@ impl RegisterFile {
             file.set(reg, raw);
         }
         file
+    }
+
+    #[inline(always)]
+    fn kind(&self) -> BoardKind {
+        self.board.variant().board()
     }
 
     /// The number of registers.
@@ -92,7 +100,7 @@ impl RegisterFile {
     /// The raw value of a register (0 for an id the table lacks; a one-byte register
     /// gives its byte).
     pub fn get(&self, reg: u8) -> u16 {
-        match (self.slots.get(usize::from(reg)), self.board.size_of(reg)) {
+        match (self.slots.get(usize::from(reg)), self.kind().size_of(reg)) {
             (Some(&[lo, _]), Some(1)) => u16::from(lo),
             (Some(&[lo, hi]), Some(_)) => u16::from_le_bytes([lo, hi]),
             _ => 0,
@@ -121,17 +129,24 @@ impl RegisterFile {
 
     /// Takes the lowest-numbered register marked changed, clearing its mark.
     pub fn take_changed(&mut self) -> Option<u8> {
-        if self.changed == 0 {
-            return None;
-        }
-        let reg = self.changed.trailing_zeros() as u8;
-        self.changed &= self.changed - 1;
-        Some(reg)
+        let mut changes = Changes(self.changed);
+        let reg = changes.take();
+        self.changed = changes.0;
+        reg
+    }
+
+    /// Takes every change mark at once, clearing them: the firmware takes them under its
+    /// lock and reads the registers one by one (see [`Changes`]).
+    pub fn take_changes(&mut self) -> Changes {
+        Changes(core::mem::replace(&mut self.changed, [0; MARK_BYTES]))
     }
 
     /// Whether a register is marked changed.
     pub fn is_changed(&self, reg: u8) -> bool {
-        self.changed & bit(reg) != 0
+        match mark(reg) {
+            Some((byte, bit)) => self.changed.get(byte).is_some_and(|m| m & bit != 0),
+            None => false,
+        }
     }
 
     /// TWI: addressed for writing (SLA+W). Ends any transaction in progress.
@@ -164,7 +179,7 @@ impl RegisterFile {
         let Phase::Reading { id, byte } = self.phase else {
             return MISSING;
         };
-        let Some(size) = self.board.size_of(id) else {
+        let Some(size) = self.kind().size_of(id) else {
             return MISSING;
         };
         let (value, next) = if byte == 0 {
@@ -194,14 +209,14 @@ impl RegisterFile {
     }
 
     fn write_at(&mut self, reg: u8, index: u8, byte: u8) {
-        let Some(size) = self.board.size_of(reg) else {
+        let Some(size) = self.kind().size_of(reg) else {
             // Past the table: everything from here on is dropped.
             self.phase = Phase::Idle;
             return;
         };
         let last = index + 1 >= size;
         if last {
-            if self.board.is_writable(reg) == Some(true) {
+            if self.kind().is_writable(reg) == Some(true) {
                 let lo = if size > 1 { self.held } else { byte };
                 let hi = if size > 1 { byte } else { 0 };
                 self.commit(reg, lo, hi);
@@ -228,12 +243,38 @@ impl RegisterFile {
         } else {
             [lo, hi]
         };
-        self.changed |= bit(reg);
+        if let Some((byte, bit)) = mark(reg) {
+            if let Some(marks) = self.changed.get_mut(byte) {
+                *marks |= bit;
+            }
+        }
     }
 }
 
-fn bit(reg: u8) -> u64 {
-    1u64.checked_shl(u32::from(reg)).unwrap_or(0)
+/// Change marks taken from a [`RegisterFile`].
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Changes([u8; MARK_BYTES]);
+
+impl Changes {
+    /// Takes the lowest-numbered register marked, clearing its mark.
+    pub fn take(&mut self) -> Option<u8> {
+        let mut first = 0u8;
+        for marks in &mut self.0 {
+            if *marks != 0 {
+                let bit = marks.trailing_zeros() as u8;
+                *marks &= *marks - 1;
+                return Some(first + bit);
+            }
+            first = first.wrapping_add(8);
+        }
+        None
+    }
+}
+
+/// The byte and bit of a register's change mark.
+fn mark(reg: u8) -> Option<(usize, u8)> {
+    let byte = usize::from(reg >> 3);
+    (byte < MARK_BYTES).then(|| (byte, 1u8 << (reg & 7)))
 }
 
 /// Power-up raw values that are not zero (reference §8.1), including the quirks PC
@@ -251,8 +292,10 @@ pub fn boot_values(variant: Variant) -> &'static [(u8, u16)] {
 const MID: u16 = 0x7fff;
 /// FAULTTIME's power-on value.
 const FAULT_TIME: u16 = super::fault::FAULT_TIME_POWER_ON_MS;
+/// BUSTIMEOUT's power-on value.
+const BUS_TIMEOUT: u16 = super::silence::BUS_TIMEOUT_POWER_ON_MS;
 
-const DS_BOOT: [(u8, u16); 11] = [
+const DS_BOOT: [(u8, u16); 12] = [
     (id::REG_STATUS, 0x0009),
     (id::REG_EXCEPTIONDATA, 0x0502),
     (id::REGDS_DRIVE_REQSPEED, MID),
@@ -264,9 +307,10 @@ const DS_BOOT: [(u8, u16); 11] = [
     (id::REGDS_STEER_STALLCHECK, 0x77),
     (id::REGDS_STEER_CALIBMAX, 0xfe),
     (id::REGDS_FAULTTIME, FAULT_TIME),
+    (id::REGDS_BUSTIMEOUT, BUS_TIMEOUT),
 ];
 
-const LL_BOOT: [(u8, u16); 11] = [
+const LL_BOOT: [(u8, u16); 12] = [
     (id::REG_STATUS, 0x0005),
     (id::REG_EXCEPTIONDATA, 0x0502),
     (id::REGLL_ONE_REQPOS, MID),
@@ -278,4 +322,5 @@ const LL_BOOT: [(u8, u16); 11] = [
     (id::REGLL_TWO_STALLCHECK, 0x77),
     (id::REGLL_TWO_CALIBMAX, 0xfe),
     (id::REGLL_FAULTTIME, FAULT_TIME),
+    (id::REGLL_BUSTIMEOUT, BUS_TIMEOUT),
 ];

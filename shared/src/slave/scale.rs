@@ -10,12 +10,13 @@
 //! - [`Scale::unmap_int`] truncates to an integer, as the original does for thresholds;
 //!   it equals the original's float32 result for every raw value (tested exhaustively).
 //! - [`Scale::map`] (value → raw, clamped) runs for every monitoring value, so it uses a
-//!   reciprocal computed at compile time and three `u32` multiplications.
+//!   reciprocal computed at compile time and four 16×16-bit products.
 //!
 //! Ranges with span 65535 would overflow `raw·span`; the tables have none (the widest
 //! is 8000).
 
 use super::divide::div_rem;
+use super::product::wide;
 use crate::pid::Fix;
 use crate::regs::Register;
 
@@ -115,11 +116,11 @@ fn map(value: Fix, min: i16, span: u16, reciprocal: u32) -> u16 {
     let offset = clamped.wrapping_sub(min) as u32;
     let whole = (offset >> 16) as u16;
     let fraction = offset as u16;
-    let (r, r_high, r_low) = (reciprocal, (reciprocal >> 16) as u16, reciprocal as u16);
-    let wide = |x: u16, y: u16| u32::from(x) * u32::from(y);
-    // whole·r ≤ F·65536 + span < 2^32, and the fraction terms add less than r.
-    let scaled = u32::from(whole)
-        .wrapping_mul(r)
+    let (r_high, r_low) = ((reciprocal >> 16) as u16, reciprocal as u16);
+    // whole·r ≤ F·65536 + span < 2^32, and the fraction terms add less than r. Four
+    // 16×16-bit products (see [`wide`]) instead of three 32-bit ones.
+    let scaled = (wide(whole, r_high) << 16)
+        .wrapping_add(wide(whole, r_low))
         .wrapping_add(wide(fraction, r_high))
         .wrapping_add(wide(fraction, r_low) >> 16);
     u16::try_from(scaled >> 16).unwrap_or(u16::MAX)

@@ -14,8 +14,9 @@
 //!        └─ HardReset (RESET bit 1), from any state ──► Restarting ──► (watchdog) power-up
 //! ```
 //!
-//! In an exception, further faults and remote writes change nothing: only the first is
-//! latched. A type whose bit is set in DISABLEDEXCEPTIONS is never raised. BOOT is never
+//! BusSilence (new, [`super::silence`]) is raised from Running like a fault and enters
+//! Exception(BusSilent). In an exception, further faults, remote writes and bus silence
+//! change nothing: only the first is latched. A type whose bit is set in DISABLEDEXCEPTIONS is never raised. BOOT is never
 //! raised; it is where every power-up starts.
 
 use super::board::MotorId;
@@ -56,6 +57,9 @@ pub enum Cause {
     Boot,
     /// A write to REG_EXCEPTIONDATA: another board's fault, spread by the master.
     Remote,
+    /// Armed by a ping, the board heard no bus transaction for BUSTIMEOUT ms (new; see
+    /// [`super::silence`]).
+    BusSilent,
     /// A fault on one of this board's motors.
     Local {
         /// What went wrong.
@@ -74,6 +78,7 @@ impl Cause {
         match self {
             Cause::Boot => ExceptionType::Boot,
             Cause::Remote => ExceptionType::RemoteSlave,
+            Cause::BusSilent => ExceptionType::BusSilent,
             Cause::Local { fault, .. } => fault.kind(),
         }
     }
@@ -82,7 +87,7 @@ impl Cause {
     pub const fn motor(self) -> Option<MotorId> {
         match self {
             Cause::Local { motor, .. } => Some(motor),
-            Cause::Boot | Cause::Remote => None,
+            Cause::Boot | Cause::Remote | Cause::BusSilent => None,
         }
     }
 
@@ -125,6 +130,8 @@ pub enum Event {
     },
     /// REG_EXCEPTIONDATA was written.
     RemoteWrite,
+    /// The bus-silence watch expired.
+    BusSilence,
     /// REG_RESET bit 0: leave the exception.
     Leave,
     /// REG_RESET bit 1: reset the board through the watchdog.
@@ -194,13 +201,16 @@ impl State {
                 (State::Running { last: cause }, Transition::Left)
             }
             (State::Running { .. }, Event::Leave) => (current, Transition::Unchanged),
-            (State::Exception(_), Event::Fault { .. } | Event::RemoteWrite) => {
+            (State::Exception(_), Event::Fault { .. } | Event::RemoteWrite | Event::BusSilence) => {
                 (current, Transition::Unchanged)
             }
             (State::Running { .. }, Event::Fault { fault, motor }) => {
                 raise(current, Cause::Local { fault, motor }, disabled)
             }
             (State::Running { .. }, Event::RemoteWrite) => raise(current, Cause::Remote, disabled),
+            (State::Running { .. }, Event::BusSilence) => {
+                raise(current, Cause::BusSilent, disabled)
+            }
         };
         *self = next;
         transition

@@ -3,5 +3,6 @@
 #![no_std]
 #![no_main]
 #![feature(abi_avr_interrupt)]
+#![feature(asm_experimental_arch)]
 
-slave::firmware!(Variant::DriveSteer);
+slave::firmware!(DriveSteerBoard);
