@@ -29,6 +29,25 @@ pub mod uart {
         }
     }
 
+    /// Waits for one received byte.
+    pub fn get(uart: &USART0) -> u8 {
+        while uart.ucsr0a().read().rxc0().bit_is_clear() {}
+        uart.udr0().read().bits()
+    }
+
+    /// Reads `N` bytes: one request of the fixtures that answer the host.
+    pub fn get_request<const N: usize>(uart: &USART0) -> [u8; N] {
+        let mut req = [0u8; N];
+        req.iter_mut().for_each(|b| *b = get(uart));
+        req
+    }
+
+    /// Sends two `u32`s, LSB first.
+    pub fn put_pair(uart: &USART0, a: u32, b: u32) {
+        put_str(uart, &a.to_le_bytes());
+        put_str(uart, &b.to_le_bytes());
+    }
+
     /// Prints `n` in decimal without leading zeros.
     pub fn put_dec(uart: &USART0, n: u16) {
         let mut digits = [0u8; 5];

@@ -16,8 +16,8 @@
 #[path = "../../../master/src/builtins.rs"]
 mod builtins;
 
-use avr_device::atmega328p::{Peripherals, USART0};
-use firmware_examples::uart::{put, put_str, uart_init};
+use avr_device::atmega328p::Peripherals;
+use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
 
 /// Bytes of the copy and fill buffer.
 const BUF: usize = 40;
@@ -33,20 +33,19 @@ fn main() -> ! {
     uart_init(&uart);
     put_str(&uart, b"builtins ready\r\n");
     loop {
-        let mut req = [0u8; 9];
-        req.iter_mut().for_each(|b| *b = get(&uart));
+        let req: [u8; 9] = get_request(&uart);
         let op = req[0];
         let a = u32::from_le_bytes([req[1], req[2], req[3], req[4]]);
         let b = u32::from_le_bytes([req[5], req[6], req[7], req[8]]);
         match op {
             0 => {
                 let (q, r) = (a.checked_div(b), a.checked_rem(b));
-                send_pair(&uart, q.unwrap_or(0), r.unwrap_or(0));
+                put_pair(&uart, q.unwrap_or(0), r.unwrap_or(0));
             }
             1 => {
                 let (a, b) = (a as i32, b as i32);
                 let (q, r) = (a.checked_div(b), a.checked_rem(b));
-                send_pair(&uart, q.unwrap_or(0) as u32, r.unwrap_or(0) as u32);
+                put_pair(&uart, q.unwrap_or(0) as u32, r.unwrap_or(0) as u32);
             }
             2 => {
                 let mut pattern = [0u8; 32];
@@ -60,34 +59,17 @@ fn main() -> ! {
                 unsafe {
                     core::ptr::copy_nonoverlapping(pattern.as_ptr(), buf.as_mut_ptr().add(at), len)
                 };
-                put_all(&uart, &buf);
+                put_str(&uart, &buf);
             }
             _ => {
                 let mut buf = [0xeeu8; BUF];
                 let (len, at) = ((a as usize).min(32), usize::from(b as u8).min(8));
                 // SAFETY: `len` <= 32 bytes at `at` <= 8, inside the 40-byte buffer.
                 unsafe { core::ptr::write_bytes(buf.as_mut_ptr().add(at), (b >> 8) as u8, len) };
-                put_all(&uart, &buf);
+                put_str(&uart, &buf);
             }
         }
     }
-}
-
-/// Waits for one received byte.
-fn get(uart: &USART0) -> u8 {
-    while uart.ucsr0a().read().rxc0().bit_is_clear() {}
-    uart.udr0().read().bits()
-}
-
-/// Sends two `u32`s, LSB first.
-fn send_pair(uart: &USART0, q: u32, r: u32) {
-    put_all(uart, &q.to_le_bytes());
-    put_all(uart, &r.to_le_bytes());
-}
-
-/// Sends every byte of `bytes`.
-fn put_all(uart: &USART0, bytes: &[u8]) {
-    bytes.iter().for_each(|&b| put(uart, b));
 }
 
 #[panic_handler]
