@@ -130,7 +130,7 @@ fn check_dry_run(args: &[&str], role: &str, addr: Option<u8>, expected_cmd: &str
     let expected_flash = flash_image_of_elf(&elf);
     assert_eq!(expected_flash, flash_image_by_objcopy(&elf_path, &dir));
     // The copy flash.sh worked from is the role's image.
-    let built = std::fs::read(root().join(format!("target/firmware/{role}.elf"))).unwrap();
+    let built = std::fs::read(harness::firmware_path(role)).unwrap();
     assert_eq!(
         flash_image_of_elf(&built),
         expected_flash,
