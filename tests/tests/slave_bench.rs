@@ -13,7 +13,7 @@ use std::rc::Rc;
 
 use harness::{Avr, CpuState, Pin};
 use shared::regs::id;
-use slave_support::{rig, Rig, DRIVE_GAINS, STEER_GAINS_WHEEL_1};
+use slave_support::{rig, Rig, DRIVE_GAINS, LIFT_GAINS_WHEEL_1, STEER_GAINS_WHEEL_1};
 
 /// Byte addresses of the vectors the slave binds.
 const PCINT2: u32 = 5 * 4;
@@ -410,4 +410,104 @@ fn highest_encoder_rate_without_a_lost_edge() {
     // The rover's top drive speed is 4000 ticks/s (REGDS_DRIVE_REQSPEED's range).
     assert!(busy >= 4_000, "edges lost at the top speed");
     assert!(quiet >= busy);
+}
+
+/// The control task's exclusive cycles per tick over `ms` of emulated time with the
+/// plant closing the loop, so the motors really move; `between(rig, i)` runs before
+/// millisecond `i` (demands sent over the bus are part of the run).
+fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64)) -> Vec<u64> {
+    let tracker = Rc::new(RefCell::new(Tracker::default()));
+    let t = Rc::clone(&tracker);
+    r.avr()
+        .set_observer(move |avr| t.borrow_mut().after_step(avr));
+    for i in 0..ms {
+        between(r, i);
+        r.run_us(1_000);
+    }
+    r.avr().clear_observer();
+    let runs = tracker.borrow_mut().runs.remove(&TIMER0_COMPB);
+    runs.unwrap_or_default()
+}
+
+#[test]
+fn drive_steer_costs_while_steering() {
+    let mut r = rig(1);
+    r.run_us(650_000);
+    r.reset_exceptions();
+    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
+        r.write_raw(reg, raw);
+    }
+    r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
+    r.run_us(1_000_000);
+    let steer = |r: &Rig| {
+        let m = r
+            .plant
+            .model(r.chip)
+            .and_then(|m| m.ds().map(|d| d.steer.motor.angle_deg()));
+        m.unwrap_or(f64::NAN)
+    };
+    // The steer swings between -30 and +30 degrees, a new demand every 150 ms, so it is
+    // moving (and its controller working) for the whole 450 ms.
+    let mut travelled = 0.0;
+    let mut last = steer(&r);
+    let runs = ticks_in_motion(&mut r, 450, |r, i| {
+        if i % 150 == 0 {
+            let to = if (i / 150) % 2 == 0 { 30.0 } else { -30.0 };
+            r.write_value(id::REGDS_STEER_REQPOS, to);
+        }
+        let now = steer(r);
+        travelled += (now - last).abs();
+        last = now;
+    });
+    let (n, mean, max) = run_stats(&runs);
+    println!("control tick, drive at 1000 and the steer swinging: {n} runs, mean {mean}, max {max} cycles");
+    println!("  the steer travelled {travelled:.0} degrees in 450 ms");
+    assert!(
+        travelled > 10.0,
+        "the steer hardly moved: {travelled:.1} degrees"
+    );
+    assert!((440..=460).contains(&n), "one tick per ms: {n}");
+    assert!(mean > 300 && max < 16_000, "{mean} / {max}");
+}
+
+#[test]
+fn lift_lift_costs_while_lifting() {
+    let mut r = rig(3);
+    r.run_us(650_000);
+    r.reset_exceptions();
+    // calibrate()'s lift block for ONE, and the same for TWO (its ids are ONE's + 18).
+    for &(reg, raw) in LIFT_GAINS_WHEEL_1 {
+        r.write_raw(reg, raw);
+        r.write_raw(reg + 18, raw);
+    }
+    r.run_us(200_000);
+    let lifts = |r: &Rig| {
+        let ll = r.plant.model(r.chip).and_then(|m| {
+            m.ll()
+                .map(|l| (l.one.motor.angle_deg(), l.two.motor.angle_deg()))
+        });
+        ll.unwrap_or((f64::NAN, f64::NAN))
+    };
+    let start = lifts(&r);
+    // Both lifts swing between -20 and +20 degrees, in opposite directions.
+    let runs = ticks_in_motion(&mut r, 450, |r, i| {
+        if i % 150 == 0 {
+            let to = if (i / 150) % 2 == 0 { 20.0 } else { -20.0 };
+            r.write_value(id::REGLL_ONE_REQPOS, to);
+            r.write_value(id::REGLL_TWO_REQPOS, -to);
+        }
+    });
+    let end = lifts(&r);
+    let (n, mean, max) = run_stats(&runs);
+    println!("control tick, both lifts moving: {n} runs, mean {mean}, max {max} cycles");
+    println!(
+        "  lift ONE {:.1} -> {:.1} degrees, TWO {:.1} -> {:.1}",
+        start.0, end.0, start.1, end.1
+    );
+    assert!(
+        (end.0 - start.0).abs() > 2.0 && (end.1 - start.1).abs() > 2.0,
+        "{start:?} -> {end:?}"
+    );
+    assert!((440..=460).contains(&n), "one tick per ms: {n}");
+    assert!(mean > 300 && max < 16_000, "{mean} / {max}");
 }
