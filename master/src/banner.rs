@@ -30,8 +30,9 @@ shared::flash_table! {
 }
 
 shared::flash_table! {
-    /// The last line.
-    static READY: [u8; 7] = *b"Ready\r\n";
+    /// The end of the free-SRAM line, then the last line (one table, so no line end is
+    /// kept in RAM).
+    static READY: [u8; 9] = *b"\r\nReady\r\n";
 }
 
 /// The first line, sent before the boot work.
@@ -43,7 +44,6 @@ pub fn starting<L: Lock<TxQueue>>(out: &mut Replies<'_, L>) {
 pub fn finish<L: Lock<TxQueue>>(out: &mut Replies<'_, L>) {
     send_text(out, STAMP_LINE.as_slice());
     decimal(out, drivers::cpu::free_ram());
-    out.send_all(b"\r\n");
     send_text(out, READY.as_slice());
 }
 
@@ -52,17 +52,23 @@ fn send_text<L: Lock<TxQueue>>(out: &mut Replies<'_, L>, text: &'static Flash<[u
     text.iter().for_each(|b| out.send(b));
 }
 
+shared::flash_table! {
+    /// The decimal places of a `u16`, by subtraction instead of division.
+    static POWERS_OF_TEN: [u16; 5] = [10_000, 1_000, 100, 10, 1];
+}
+
 /// Sends `n` in decimal, without leading zeros.
 fn decimal<L: Lock<TxQueue>>(out: &mut Replies<'_, L>, mut n: u16) {
-    let mut digits = [0u8; 5];
-    let mut len = 0;
-    for slot in digits.iter_mut() {
-        *slot = b'0' + (n % 10) as u8;
-        len += 1;
-        n /= 10;
-        if n == 0 {
-            break;
+    let mut started = false;
+    for power in POWERS_OF_TEN.as_slice().iter() {
+        let mut digit = b'0';
+        while n >= power {
+            n -= power;
+            digit += 1;
+        }
+        started |= digit != b'0' || power == 1;
+        if started {
+            out.send(digit);
         }
     }
-    digits[..len].iter().rev().for_each(|&d| out.send(d));
 }

@@ -21,20 +21,22 @@ pub type StatusLed = Output<PORTB, 5>;
 pub type BlueLed = Output<PORTD, 7>;
 
 /// How long D13 stays lit after a ping starts, ms.
-pub const PING_LIT_MS: u32 = 100;
+pub const PING_LIT_MS: u16 = 100;
 /// One pulse of the type code, ms.
-pub const FLASH_PERIOD_MS: u32 = 512;
+pub const FLASH_PERIOD_MS: u16 = 512;
 /// The lit part of a pulse, ms (the original's 30 %, rounded to a power of two).
-pub const FLASH_ON_MS: u32 = 128;
-/// One cycle of the type code: room for 16 pulses, ms.
-pub const FLASH_CYCLE_MS: u32 = 16 * FLASH_PERIOD_MS;
+pub const FLASH_ON_MS: u16 = 128;
+/// One cycle of the type code: room for 16 pulses, ms. It divides 2¹⁶, so the pattern
+/// runs on the clock's low 16 bits without a seam at their wrap.
+pub const FLASH_CYCLE_MS: u16 = 16 * FLASH_PERIOD_MS;
+const _: () = assert!(65_536 % FLASH_CYCLE_MS as u32 == 0);
 
 /// Both LEDs and what they show.
 pub struct Leds {
     status: StatusLed,
     blue: BlueLed,
-    /// When the last ping lit D13, while it is lit.
-    ping_at: Option<u32>,
+    /// When the last ping lit D13 (the clock's low 16 bits), while it is lit.
+    ping_at: Option<u16>,
     /// Type code of the last exception raised (0: none yet).
     code: u8,
 }
@@ -60,11 +62,10 @@ impl Leds {
     /// A ping starts at `now_ms`.
     pub fn ping(&mut self, now_ms: u32) {
         self.status.set_high();
-        self.ping_at = Some(now_ms);
+        self.ping_at = Some(now_ms as u16);
     }
 
     /// Notes the exception latched in `latch`, if it is one the master raised.
-    #[inline(never)]
     pub fn note(&mut self, latch: &MasterLatch) {
         match latch.current() {
             Some(e) if e.kind != ExceptionType::Boot => self.code = e.kind.code(),
@@ -75,18 +76,20 @@ impl Leds {
     /// Sets both LEDs for `now_ms`, with the remote control's link `rc_up` or not.
     #[inline(never)]
     pub fn update(&mut self, now_ms: u32, rc_up: bool) {
+        let now = now_ms as u16;
         if let Some(at) = self.ping_at {
-            if now_ms.wrapping_sub(at) >= PING_LIT_MS {
+            if now.wrapping_sub(at) >= PING_LIT_MS {
                 self.status.set_low();
                 self.ping_at = None;
             }
         }
-        self.blue.set(rc_up || flash_lit(self.code, now_ms));
+        self.blue.set(rc_up || flash_lit(self.code, now));
     }
 }
 
-/// Whether the type-code pattern of `code` is lit at `now_ms` (never for code 0).
-fn flash_lit(code: u8, now_ms: u32) -> bool {
+/// Whether the type-code pattern of `code` is lit at `now_ms` (the clock's low 16 bits;
+/// never for code 0).
+fn flash_lit(code: u8, now_ms: u16) -> bool {
     let t = now_ms % FLASH_CYCLE_MS;
-    t / FLASH_PERIOD_MS < u32::from(code) && t % FLASH_PERIOD_MS < FLASH_ON_MS
+    t / FLASH_PERIOD_MS < u16::from(code) && t % FLASH_PERIOD_MS < FLASH_ON_MS
 }

@@ -34,9 +34,11 @@ pub type RxQueue = Ring<RxEvent, 32>;
 /// for room between the bytes it reads, so the reply goes out at line speed anyway.
 pub type TxQueue = Ring<u8, 32>;
 
-/// Milliseconds since boot, advanced by the 1 kHz tick.
+/// Milliseconds since boot, advanced by the 1 kHz tick. Sixteen bits: everything the
+/// master times is far shorter than their 65.5-s wrap, and what it measures from boot
+/// (the slaves' 5-s settling) is over long before the first wrap.
 pub struct Clock {
-    ms: u32,
+    ms: u16,
 }
 
 impl Clock {
@@ -50,10 +52,17 @@ impl Clock {
         self.ms = self.ms.wrapping_add(1);
     }
 
-    /// Milliseconds since boot (wraps after 49 days).
+    /// Milliseconds since boot (wraps after 65.5 s).
     pub fn ms(&self) -> u32 {
-        self.ms
+        u32::from(self.ms)
     }
+}
+
+/// Milliseconds since boot, read from the shared clock. Out of line: the loop and the PC
+/// link read it in six places, which share one copy of the lock and the 4-byte read.
+#[inline(never)]
+pub fn now_ms(clock: &mut impl Lock<Clock>) -> u32 {
+    clock.lock(|c| c.ms())
 }
 
 /// Something that can be locked like a shared resource handle.
@@ -82,14 +91,12 @@ impl<'a, L: Lock<TxQueue>> Replies<'a, L> {
 
     /// Queues one byte and makes sure the transmitter is running.
     pub fn send(&mut self, byte: u8) {
-        while self.tx.lock(|q| q.push_back(byte).is_err()) {
+        loop {
+            let queued = self.tx.lock(|q| q.push_back(byte).is_ok());
             crate::transmit::arm();
+            if queued {
+                return;
+            }
         }
-        crate::transmit::arm();
-    }
-
-    /// Queues every byte of `bytes`.
-    pub fn send_all(&mut self, bytes: &[u8]) {
-        bytes.iter().for_each(|&b| self.send(b));
     }
 }

@@ -56,7 +56,7 @@ use leds::{BlueLed, Leds, StatusLed};
 use link::{Clock, Replies, RxEvent, RxQueue, TxQueue};
 use pc::{PcLink, Serve};
 use relay::TwiRelay;
-use remote::{EdgeQueue, RcEdges, RemoteControl, Work};
+use remote::{EdgeQueue, RcEdges, RemoteControl};
 use shared::master::{Schedule, Service};
 use temperature::Temperatures;
 use traffic::Traffic;
@@ -137,7 +137,9 @@ fn init(cx: init::Context) -> (Shared, Local) {
     (
         Shared {
             usart,
-            rx: RxQueue::new(RxEvent::Overrun),
+            // The fill is never read; all-zero slots cost init a clear instead of a
+            // store loop.
+            rx: RxQueue::new(RxEvent::Byte(0)),
             tx: TxQueue::new(0),
             clock: Clock::new(),
             edges: EdgeQueue::new((0, 0)),
@@ -161,7 +163,7 @@ fn idle(mut cx: idle::Context) -> ! {
     // (REG_RESET = 2), after which each reboots into its boot exception with defaults.
     l.temps.discover(l.wire, l.watchdog);
     while !l.schedule.booted() {
-        let now = cx.shared.clock.lock(|c| c.ms());
+        let now = link::now_ms(&mut cx.shared.clock);
         let mut traffic = Traffic {
             schedule: l.schedule,
             local: &mut l.service.local,
@@ -177,7 +179,7 @@ fn idle(mut cx: idle::Context) -> ! {
     let mut turn = 0u8;
     loop {
         l.watchdog.feed();
-        let now = cx.shared.clock.lock(|c| c.ms());
+        let now = link::now_ms(&mut cx.shared.clock);
         while let Some(edge) = cx.shared.edges.lock(|q| q.pop_front()) {
             l.remote.edge(edge, now);
         }
@@ -197,7 +199,7 @@ fn idle(mut cx: idle::Context) -> ! {
         );
 
         // Then one piece of work: the PC link is drained between any two.
-        let now = cx.shared.clock.lock(|c| c.ms());
+        let now = link::now_ms(&mut cx.shared.clock);
         let mut traffic = Traffic {
             schedule: l.schedule,
             local: &mut l.service.local,
@@ -238,20 +240,10 @@ fn one_piece_of_work(
     for _ in 0..3 {
         *turn = (*turn + 1) % 3;
         let worked = match *turn {
-            0 => match remote.next(now) {
-                Some(Work::Setup(w)) => {
-                    traffic.remote_write(&w, now);
-                    true
-                }
-                Some(Work::Pass(pass)) => {
-                    remote::pass_writes(&pass, |w| traffic.remote_write(&w, now));
-                    true
-                }
-                None => false,
-            },
+            0 => remote.next(now, |w| traffic.remote_write(&w, now)),
             1 => {
                 let ticking = temps.busy();
-                temps.step(wire, &mut traffic.local.temps);
+                temps.step(wire, traffic.local);
                 ticking
             }
             _ => traffic.schedule_step(now, temps, leds),
@@ -269,10 +261,9 @@ fn receive(mut cx: receive::Context) {
         Err(drivers::usart::RxError::Framing) => RxEvent::Framing,
         Err(drivers::usart::RxError::Overrun) => RxEvent::Overrun,
     };
-    if cx.shared.rx.push_back(event).is_err() {
-        // Idle is behind by a whole queue: the byte is lost like an overrun, and says so.
-        cx.shared.rx.replace_back(RxEvent::Overrun);
-    }
+    // When idle is behind by a whole queue, the byte is lost like an overrun, and the
+    // newest entry says so.
+    cx.shared.rx.push_or_replace(event, RxEvent::Overrun);
 }
 
 fn transmit(mut cx: transmit::Context) {

@@ -3,7 +3,7 @@
 //! control's link is up, reference §9.2), slave accesses reported to the schedule, and
 //! the inter-byte timeout.
 
-use crate::link::{Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
+use crate::link::{now_ms, Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
 use crate::relay::{TwiRelay, Watched};
 use drivers::watchdog::Watchdog;
 use shared::master::{InterByteTimeout, LinkError, Schedule, Service};
@@ -22,9 +22,12 @@ pub struct Serve<'a> {
 }
 
 /// The parser, the inter-byte timeout and the read sets.
+// In declaration order, the small per-byte state first, within a short displacement of
+// the link's address on the AVR (see `Parser`).
+#[repr(C)]
 pub struct PcLink {
-    parser: Parser,
     timeout: InterByteTimeout,
+    parser: Parser,
     sets: ReadSets,
 }
 
@@ -53,7 +56,7 @@ impl PcLink {
         let mut took = false;
         while let Some(event) = rx.lock(|q| q.pop_front()) {
             took = true;
-            let now = clock.lock(|c| c.ms());
+            let now = now_ms(clock);
             let RxEvent::Byte(b) = event else {
                 self.parser.abort();
                 self.timeout.byte(now, false);
@@ -69,7 +72,7 @@ impl PcLink {
                     s.service
                         .execute(&mut self.sets, frame, &mut bus, &mut |r| out.send(r));
                     if let Some((device, answered)) = bus.outcome() {
-                        let now = clock.lock(|c| c.ms());
+                        let now = now_ms(clock);
                         let latch = &mut s.service.local.exception;
                         s.schedule.observe(device, answered, now, latch);
                     }
@@ -77,7 +80,7 @@ impl PcLink {
             }
             self.timeout.byte(now, self.parser.in_frame());
         }
-        let now = clock.lock(|c| c.ms());
+        let now = now_ms(clock);
         let waiting = rx.lock(|q| !q.is_empty());
         if self.timeout.expired(now, waiting) && self.parser.abort() {
             s.service

@@ -41,6 +41,8 @@ impl TwiRelay {
 }
 
 impl SlaveBus for TwiRelay {
+    // Out of line: the PC frames, the schedule and the remote control share one copy.
+    #[inline(never)]
     fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError> {
         let mut frame = [id, 0, 0];
         let n = value.len().min(2);

@@ -17,12 +17,12 @@
 use drivers::rc_pins::RcPins;
 use drivers::timer1::{EdgeClock, FreeRunning};
 use shared::master::rc::setup::DS_CONTROLLERS_FLASH;
-use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote};
+use shared::master::rc::{angle_raw, LinkUpWrites, Pass, PulseTimer, Remote};
 use shared::master::{RegWrite, Ring};
 use shared::regs::id;
 
 /// A pass every this many ms while the link is up.
-pub const PASS_PERIOD_MS: u32 = 5;
+pub const PASS_PERIOD_MS: u16 = 5;
 
 /// One pin change: Timer1's count (half µs) and the channel levels (bit c = channel c).
 pub type Edge = (u16, u8);
@@ -53,14 +53,6 @@ impl RcEdges {
     }
 }
 
-/// What the remote control asks idle to send now.
-pub enum Work {
-    /// One write of the first link-up (device 0 is the master itself).
-    Setup(RegWrite),
-    /// A pass: its twelve writes go out together (about 1.3 ms at 400 kHz).
-    Pass(Pass),
-}
-
 /// Idle's remote-control state.
 pub struct RemoteControl {
     clock: EdgeClock,
@@ -68,13 +60,8 @@ pub struct RemoteControl {
     remote: Remote,
     /// The first link-up's writes still to send.
     setup: Option<LinkUpWrites>,
-    last_pass_ms: u32,
-}
-
-/// The µs clock the link state runs on: idle's millisecond clock, in µs (it wraps at
-/// 2³² µs like a µs counter, so differences stay exact).
-fn micros(now_ms: u32) -> u32 {
-    now_ms.wrapping_mul(1000)
+    /// The clock's low 16 bits at the last pass (it is checked every loop).
+    last_pass_ms: u16,
 }
 
 impl RemoteControl {
@@ -100,47 +87,54 @@ impl RemoteControl {
                 self.remote.pulse(channel, w);
             }
         }
-        self.remote.edge(micros(now_ms));
+        self.remote.edge(now_ms);
     }
 
     /// Whether the link is up at `now_ms` (PC frames are then swallowed and the blue
     /// LED is lit).
-    #[inline(never)]
     pub fn link_up(&mut self, now_ms: u32) -> bool {
-        self.remote.swallows_frames(micros(now_ms))
+        self.remote.swallows_frames(now_ms)
     }
 
-    /// What to send at `now_ms`: the first link-up's writes one at a time, then a pass
-    /// every [`PASS_PERIOD_MS`] while the link is up.
+    /// Sends through `send` what is due at `now_ms`: the first link-up's writes one at a
+    /// time (device 0 is the master itself), then every [`PASS_PERIOD_MS`] while the link
+    /// is up a pass, whose twelve writes go out together (about 1.3 ms at 400 kHz).
+    /// Returns whether anything was sent.
     #[inline(never)]
-    pub fn next(&mut self, now_ms: u32) -> Option<Work> {
-        let now_us = micros(now_ms);
-        if self.remote.first_link_up(now_us) {
+    pub fn next(&mut self, now_ms: u32, mut send: impl FnMut(RegWrite)) -> bool {
+        if self.remote.first_link_up(now_ms) {
             self.setup = Some(LinkUpWrites::new());
         }
         if let Some(setup) = self.setup.as_mut() {
             match setup.next() {
-                Some(w) => return Some(Work::Setup(w)),
+                Some(w) => {
+                    send(w);
+                    return true;
+                }
                 None => self.setup = None,
             }
         }
-        if !self.remote.link_up(now_us) || now_ms.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
-            return None;
+        let now = now_ms as u16;
+        if !self.remote.link_up(now_ms) || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
+            return false;
         }
-        self.last_pass_ms = now_ms;
-        Some(Work::Pass(self.remote.pass()))
+        self.last_pass_ms = now;
+        pass_writes(&self.remote.pass(), send);
+        true
     }
 }
 
 /// The writes of `pass`, in the order of `Pass::writes`: for wheels 1..6, REQSPEED then
 /// STEER_REQPOS on the wheel's drive/steer board.
-#[inline(never)]
-pub fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
+fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
     let speed = pass.speed_raw();
-    for (i, device) in DS_CONTROLLERS_FLASH.as_slice().iter().enumerate() {
+    // Wheel i + 1's board and angle (as `Pass::steer_raw(i + 1)`).
+    for (device, &angle) in DS_CONTROLLERS_FLASH.as_slice().iter().zip(&pass.angles) {
         send(RegWrite::word(device, id::REGDS_DRIVE_REQSPEED, speed));
-        if let Some(raw) = pass.steer_raw(i + 1) {
-            send(RegWrite::word(device, id::REGDS_STEER_REQPOS, raw));
-        }
+        send(RegWrite::word(
+            device,
+            id::REGDS_STEER_REQPOS,
+            angle_raw(angle),
+        ));
     }
 }

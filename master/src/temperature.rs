@@ -12,6 +12,7 @@ use shared::exception::MasterException;
 use shared::master::temperature::{
     command, reading, Poller, Rom, RomSearch, Sensors, SCRATCHPAD_LEN,
 };
+use shared::master::LocalRegisters;
 
 /// Steps of a read: reset, MATCH ROM, 8 ROM bytes, READ SCRATCHPAD, 9 scratchpad bytes.
 const READ_STEPS: u8 = 20;
@@ -45,10 +46,13 @@ impl Job {
 
 /// The sensors found at boot, the polling position and the tick under way; the bus
 /// itself is passed in.
+// In declaration order, the tick's state first: the AVR reaches it with a short
+// displacement from the struct's address, where after the ROMs it needs its own pointer.
+#[repr(C)]
 pub struct Temperatures {
-    sensors: Sensors,
-    poller: Poller,
     job: Job,
+    poller: Poller,
+    sensors: Sensors,
 }
 
 impl Temperatures {
@@ -80,7 +84,6 @@ impl Temperatures {
     }
 
     /// One pass of the ROM search; false when it found nothing more to keep.
-    #[inline(never)]
     fn search_pass(&mut self, wire: &mut OneWire, search: &mut RomSearch) -> bool {
         if !wire.reset() {
             return false;
@@ -102,17 +105,16 @@ impl Temperatures {
 
     /// A temperature tick is due: decides what it reads and converts, and returns the
     /// exception to raise if a sensor it needs is missing (type 10).
-    #[inline(never)]
     pub fn start_tick(&mut self) -> Option<MasterException> {
-        let tick = self.poller.tick(&self.sensors);
+        let plan = self.poller.plan(&self.sensors);
         self.job = Job {
             active: true,
-            read: tick.read.map(|(id, _)| id),
-            convert: tick.convert.map(|(id, _)| id),
+            read: plan.read,
+            convert: plan.convert,
             step: 0,
             pad: [0; SCRATCHPAD_LEN],
         };
-        tick.exception()
+        plan.exception()
     }
 
     /// Whether a tick's bus work is under way.
@@ -121,9 +123,10 @@ impl Temperatures {
     }
 
     /// Performs the next step of the tick under way, if any; a finished read lands in
-    /// `temps` (ambient first, then controllers 1..9) unless its CRC is wrong.
+    /// device 0's temperatures (ambient first, then controllers 1..9) unless its CRC is
+    /// wrong.
     #[inline(never)]
-    pub fn step(&mut self, wire: &mut OneWire, temps: &mut [u16; 10]) {
+    pub fn step(&mut self, wire: &mut OneWire, local: &mut LocalRegisters) {
         let job = &mut self.job;
         if !job.active {
             return;
@@ -135,7 +138,7 @@ impl Temperatures {
         } else {
             (job.convert, step - READ_STEPS)
         };
-        let rom = sensor.and_then(|id| self.sensors.locate(id));
+        let rom = sensor.and_then(|id| self.sensors.find(id));
         let Some((id, rom)) = sensor.zip(rom) else {
             // Nothing to do in this half: skip it.
             if step < READ_STEPS {
@@ -163,9 +166,8 @@ impl Temperatures {
                     *slot = byte;
                 }
                 if last {
-                    if let (Ok(raw), Some(t)) = (reading(&job.pad), temps.get_mut(usize::from(id)))
-                    {
-                        *t = raw;
+                    if let Ok(raw) = reading(&job.pad) {
+                        local.set_temperature(id, raw);
                     }
                 }
             }

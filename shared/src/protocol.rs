@@ -17,6 +17,7 @@ pub use parser::Parser;
 
 pub use read_sets::ReadSets;
 pub use reply::{decode_read_reply, read_reply_len};
+use sizes::Sizes;
 
 /// Longest frame in bytes (the length byte is a `u8`).
 pub const MAX_FRAME: usize = 255;
@@ -104,8 +105,9 @@ pub struct Rejected {
     pub header: Option<u8>,
 }
 
-/// How a frame's register values are sized: `(device, id) -> bytes`.
-pub(crate) type SizeOf = fn(u8, u8) -> Option<u8>;
+/// How a frame's register values are sized: the table of the addressed device, `None`
+/// for a device with no board.
+pub(crate) type SizesOf = fn(u8) -> Option<Sizes>;
 
 /// A complete, validated frame, borrowed from the parser's buffer (see
 /// [`Parser::push_frame`]). [`Frame::to_request`] makes an owned [`Request`].
@@ -180,10 +182,10 @@ impl Frame<'_> {
 /// checked to hold exactly this many well-sized entries, so iteration cannot fail.
 #[derive(Clone)]
 pub struct Writes<'a> {
-    device: u8,
     remaining: u8,
     bytes: &'a [u8],
-    size_of: SizeOf,
+    /// The addressed device's table, looked up once per frame.
+    sizes: Sizes,
 }
 
 impl core::fmt::Debug for Writes<'_> {
@@ -202,7 +204,7 @@ impl Iterator for Writes<'_> {
         let [id, rest @ ..] = self.bytes else {
             return None;
         };
-        let (raw, tail) = match ((self.size_of)(self.device, *id), rest) {
+        let (raw, tail) = match (self.sizes.size_of(*id), rest) {
             (Some(1), [lo, tail @ ..]) => (u16::from(*lo), tail),
             (Some(2), [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
             _ => return None,

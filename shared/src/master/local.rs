@@ -11,7 +11,7 @@ const ZERO_CELSIUS_RAW: u16 = 0x2aaa;
 #[derive(Clone, Debug)]
 pub struct LocalRegisters {
     /// Raw (mapped) temperatures: ambient, then controllers 1..9.
-    pub temps: [u16; 10],
+    temps: [u16; 10],
     /// The exception latch behind REGMASTER_EXCEPTIONDATA.
     pub exception: MasterLatch,
     last_error: u8,
@@ -60,7 +60,17 @@ impl LocalRegisters {
         }
     }
 
+    /// Stores raw temperature `raw` of sensor `index` (0 ambient, then controllers 1..9);
+    /// another index is ignored.
+    pub fn set_temperature(&mut self, index: u8, raw: u16) {
+        if let Some(t) = self.temps.get_mut(usize::from(index)) {
+            *t = raw;
+        }
+    }
+
     /// Records a link error for REGMASTER_LASTERROR and REGMASTER_ERRORCOUNT.
+    // Out of line: the frame logic and the link's byte errors and timeout share one copy.
+    #[inline(never)]
     pub fn record(&mut self, e: LinkError) {
         self.last_error = e.code();
         self.error_count = self.error_count.wrapping_add(1);

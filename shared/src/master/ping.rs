@@ -91,8 +91,11 @@ pub enum Phase {
 
 /// The job an action belongs to.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+// Numbered from 1 so that `None` around it is stored as 0: the schedule starts as all
+// zeros, which the firmware keeps in `.bss` instead of copying an initial value from flash.
+#[repr(u8)]
 enum Job {
-    Boot,
+    Boot = 1,
     Spread,
     Ping,
     Check,
@@ -101,8 +104,10 @@ enum Job {
 
 /// Where the ping of one slave stands.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+// Numbered from 1 for the same reason as `Job`.
+#[repr(u8)]
 enum PingStage {
-    Ping,
+    Ping = 1,
     Status,
     ExceptionData,
 }
@@ -130,18 +135,21 @@ impl Spread {
 /// The master's schedule of slave traffic.
 #[derive(Clone, Debug)]
 pub struct Schedule {
-    boot_next: u8,
+    /// Boot resets sent so far (slaves 1..=`boot_sent`).
+    boot_sent: u8,
     started: bool,
-    last_ping: u32,
-    last_temperature: u32,
-    last_check: u32,
+    // Times are kept as the low 16 bits of the ms clock: every period measured is far
+    // below 65 s, and the loop polls every few ms.
+    last_ping: u16,
+    last_temperature: u16,
+    last_check: u16,
     ping: Option<(u8, PingStage)>,
     check: Option<u8>,
     recheck: Option<u8>,
     spread: Option<Spread>,
     health: Health,
     /// The current action, its job and the poll time it was issued at.
-    in_flight: Option<(Action, Job, u32)>,
+    in_flight: Option<(Action, Job, u16)>,
 }
 
 impl Default for Schedule {
@@ -154,7 +162,7 @@ impl Schedule {
     /// The schedule at power-up: the boot resets come first.
     pub const fn new() -> Self {
         Schedule {
-            boot_next: 1,
+            boot_sent: 0,
             started: false,
             last_ping: 0,
             last_temperature: 0,
@@ -182,7 +190,7 @@ impl Schedule {
     /// Whether the boot resets have all been performed (the firmware then shortens its
     /// watchdog to 120 ms).
     pub fn booted(&self) -> bool {
-        self.boot_next > 9 && !matches!(self.in_flight, Some((_, Job::Boot, _)))
+        self.boot_sent >= 9 && !matches!(self.in_flight, Some((_, Job::Boot, _)))
     }
 
     /// Slaves that have answered since boot: bit n for slave n.
@@ -198,12 +206,14 @@ impl Schedule {
     /// The next action to perform at `now_ms`, or `None` when nothing is due. An action
     /// stays current until [`Schedule::feed`] reports its outcome; polling again before
     /// that returns it again.
+    /// Periods are measured on the clock's low 16 bits: poll at least once a minute
+    /// (the firmware polls every few ms).
     pub fn poll(&mut self, now_ms: u32) -> Option<Action> {
         if let Some((action, _, _)) = self.in_flight {
             return Some(action);
         }
         let (action, job) = self.next_action(now_ms)?;
-        self.in_flight = Some((action, job, now_ms));
+        self.in_flight = Some((action, job, now_ms as u16));
         Some(action)
     }
 
@@ -249,7 +259,7 @@ impl Schedule {
     #[inline(never)]
     pub fn observe(&mut self, device: u8, answered: bool, now_ms: u32, latch: &mut MasterLatch) {
         if self.started {
-            self.evidence(device, answered, now_ms, latch);
+            self.evidence(device, answered, now_ms as u16, latch);
         }
     }
 
@@ -274,9 +284,9 @@ impl Schedule {
                 None => self.spread = None,
             }
         }
-        if self.boot_next <= 9 {
-            let d = self.boot_next;
-            self.boot_next += 1;
+        if self.boot_sent < 9 {
+            self.boot_sent += 1;
+            let d = self.boot_sent;
             let reset = RegWrite::byte(d, id::REG_RESET, 2);
             return Some((Action::WriteReg(reset), Job::Boot));
         }
@@ -293,19 +303,20 @@ impl Schedule {
             }
             self.started = true;
         }
-        if now_ms.wrapping_sub(self.last_ping) > PING_PERIOD_MS {
-            self.last_ping = now_ms;
+        let now = now_ms as u16;
+        if u32::from(now.wrapping_sub(self.last_ping)) > PING_PERIOD_MS {
+            self.last_ping = now;
             self.ping = Some((1, PingStage::Ping));
             return Some((ping_action(1, PingStage::Ping), Job::Ping));
         }
-        if now_ms.wrapping_sub(self.last_temperature) > TEMPERATURE_PERIOD_MS {
-            self.last_temperature = now_ms;
+        if u32::from(now.wrapping_sub(self.last_temperature)) > TEMPERATURE_PERIOD_MS {
+            self.last_temperature = now;
             return Some((Action::TemperatureTick, Job::Temperature));
         }
-        let (d, age) = self.health.stalest(now_ms)?;
-        let paced = now_ms.wrapping_sub(self.last_check) >= LIVENESS_PERIOD_MS;
+        let (d, age) = self.health.stalest(now)?;
+        let paced = u32::from(now.wrapping_sub(self.last_check)) >= LIVENESS_PERIOD_MS;
         if paced || age >= LIVENESS_MAX_AGE_MS {
-            self.last_check = now_ms;
+            self.last_check = now;
             self.check = Some(d);
             return Some((Action::ReadStatus { device: d }, Job::Check));
         }
@@ -313,7 +324,7 @@ impl Schedule {
     }
 
     /// Advances the ping after one of its actions.
-    fn ping_result(&mut self, outcome: Outcome, at: u32, latch: &mut MasterLatch) {
+    fn ping_result(&mut self, outcome: Outcome, at: u16, latch: &mut MasterLatch) {
         let Some((d, stage)) = self.ping else {
             return;
         };
@@ -354,7 +365,7 @@ impl Schedule {
     }
 
     /// An access to `device` at `at` (ms) succeeded or failed.
-    fn evidence(&mut self, device: u8, answered: bool, at: u32, latch: &mut MasterLatch) {
+    fn evidence(&mut self, device: u8, answered: bool, at: u16, latch: &mut MasterLatch) {
         if bit(device) == 0 {
             return;
         }

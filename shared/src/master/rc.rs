@@ -20,8 +20,8 @@ pub use setup::{LinkUpWrites, DS_CONTROLLERS, LINK_UP_WRITES};
 use crate::master::ping::RegWrite;
 use crate::regs::id;
 
-/// The link is up while the last edge is less than this old (µs).
-pub const LINK_TIMEOUT_US: u32 = 1_000_000;
+/// The link is up while the last edge is less than this old (ms).
+pub const LINK_TIMEOUT_MS: u16 = 1000;
 /// |steer| below 0.3 is taken as 0.
 pub const STEER_DEADBAND: i16 = 300;
 /// |drive| below 0.2 is taken as 0.
@@ -30,6 +30,9 @@ pub const DRIVE_DEADBAND: i16 = 200;
 pub const CRAB_THRESHOLD: i16 = 750;
 /// REQSPEED at full drive, ticks/s.
 pub const MAX_SPEED: i32 = 1300;
+// A pass's speed in tenths is MAX_SPEED·10·drive/1000 = (MAX_SPEED/100)·drive, exact only
+// while MAX_SPEED is a multiple of 100.
+const _: () = assert!(MAX_SPEED % 100 == 0);
 
 /// What the master sends in one pass while the link is up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,7 +59,7 @@ impl Pass {
     /// another number.
     pub fn steer_raw(&self, wheel: usize) -> Option<u16> {
         let angle = *self.angles.get(wheel.checked_sub(1)?)?;
-        Some(map_scaled(i32::from(angle), 100, 200))
+        Some(angle_raw(angle))
     }
 
     /// The pass's twelve writes: for wheels 1..6 in order, REQSPEED then STEER_REQPOS on
@@ -86,11 +89,21 @@ fn map_scaled(value: i32, scale: i32, limit: i32) -> u16 {
     (x * 32767 / span as u32) as u16
 }
 
+/// Raw REGDS_STEER_REQPOS (±200° over 0..65534) of an angle in cdeg: [`map_scaled`]
+/// with the clamp in 16 bits, as the firmware maps one per wheel and pass.
+pub fn angle_raw(cdeg: i16) -> u16 {
+    const SPAN: i16 = 200 * 100;
+    // −20 000..=20 000 plus 20 000 is 0..=40 000, which fits a u16; x·32767 fits a u32.
+    let x = (cdeg.clamp(-SPAN, SPAN) as u16).wrapping_add(SPAN as u16);
+    (u32::from(x) * 32767 / SPAN as u32) as u16
+}
+
 /// The master's remote-control state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Remote {
     widths: [Option<u16>; CHANNELS],
-    last_edge_us: Option<u32>,
+    /// The low 16 bits of the ms clock at the last edge.
+    last_edge_ms: Option<u16>,
     linked_before: bool,
     steer_udeg: i32,
 }
@@ -100,15 +113,15 @@ impl Remote {
     pub const fn new() -> Self {
         Remote {
             widths: [None; CHANNELS],
-            last_edge_us: None,
+            last_edge_ms: None,
             linked_before: false,
             steer_udeg: 0,
         }
     }
 
-    /// An edge was seen on any channel at `now_us` (the µs clock, wrapping).
-    pub fn edge(&mut self, now_us: u32) {
-        self.last_edge_us = Some(now_us);
+    /// An edge was seen on any channel at `now_ms` (the ms clock, wrapping).
+    pub fn edge(&mut self, now_ms: u32) {
+        self.last_edge_ms = Some(now_ms as u16);
     }
 
     /// A pulse of `width_us` ended on `channel` (from [`PulseTimer::change`]).
@@ -123,16 +136,14 @@ impl Remote {
         self.widths
     }
 
-    /// Whether the link is up at `now_us`: an edge was seen less than 1 s ago. Call it
-    /// every pass: an edge older than 1 s is forgotten, so the µs clock's wrap (every
-    /// 71.6 min) cannot bring a dead link back.
-    // Out of line: three callers here and the firmware's (one copy).
-    #[inline(never)]
-    pub fn link_up(&mut self, now_us: u32) -> bool {
-        match self.last_edge_us {
-            Some(t) if now_us.wrapping_sub(t) < LINK_TIMEOUT_US => true,
+    /// Whether the link is up at `now_ms`: an edge was seen less than 1 s ago. Call it
+    /// every pass: an edge older than 1 s is forgotten, so the wrap of the 16-bit time
+    /// stamp (every 65.5 s) cannot bring a dead link back.
+    pub fn link_up(&mut self, now_ms: u32) -> bool {
+        match self.last_edge_ms {
+            Some(t) if (now_ms as u16).wrapping_sub(t) < LINK_TIMEOUT_MS => true,
             _ => {
-                self.last_edge_us = None;
+                self.last_edge_ms = None;
                 false
             }
         }
@@ -140,8 +151,8 @@ impl Remote {
 
     /// True exactly once per boot: at the first pass that finds the link up. The
     /// firmware then sends [`LinkUpWrites`].
-    pub fn first_link_up(&mut self, now_us: u32) -> bool {
-        if self.linked_before || !self.link_up(now_us) {
+    pub fn first_link_up(&mut self, now_ms: u32) -> bool {
+        if self.linked_before || !self.link_up(now_ms) {
             return false;
         }
         self.linked_before = true;
@@ -149,8 +160,8 @@ impl Remote {
     }
 
     /// Whether a complete PC frame is swallowed with no reply (the link is up).
-    pub fn swallows_frames(&mut self, now_us: u32) -> bool {
-        self.link_up(now_us)
+    pub fn swallows_frames(&mut self, now_ms: u32) -> bool {
+        self.link_up(now_ms)
     }
 
     /// The steer integrator, µdeg (the outer wheel's angle).
@@ -161,15 +172,11 @@ impl Remote {
     /// One pass with the link up: dead bands, crab mode, the steer integrator step and
     /// the outputs. A channel that has not had a pulse reads 0 (centred).
     pub fn pass(&mut self) -> Pass {
-        let value = |c: usize| {
-            self.widths
-                .get(c)
-                .copied()
-                .flatten()
-                .and_then(|w| normalise(c, w))
-                .unwrap_or(0)
-        };
-        let (drive, steer, mode) = (value(0), value(1), value(2));
+        let mut values = [0i16; CHANNELS];
+        for (c, (value, width)) in values.iter_mut().zip(self.widths).enumerate() {
+            *value = width.and_then(|w| normalise(c, w)).unwrap_or(0);
+        }
+        let [drive, steer, mode] = values;
         let drive = if drive.abs() < DRIVE_DEADBAND {
             0
         } else {
@@ -183,13 +190,65 @@ impl Remote {
         let crab = mode > CRAB_THRESHOLD;
         self.steer_udeg = steer::integrate(self.steer_udeg, steer);
         // ±30° in µdeg → ±3000 cdeg.
-        let outer = (self.steer_udeg / 10_000) as i16;
+        // Truncated toward zero like `/`, in unsigned arithmetic: the firmware then needs
+        // no signed 32-bit division routine.
+        let whole = (self.steer_udeg.unsigned_abs() / 10_000) as i16;
+        let outer = if self.steer_udeg < 0 { -whole } else { whole };
         Pass {
             drive,
             steer,
             crab,
-            speed_tenths: MAX_SPEED * 10 * i32::from(drive) / 1000,
+            // 1300·10·drive/1000 = 13·drive exactly: no division needed.
+            speed_tenths: MAX_SPEED / 100 * i32::from(drive),
             angles: steer::wheel_angles(outer, crab),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_angle_maps_as_the_general_mapping() {
+        for cdeg in i16::MIN..=i16::MAX {
+            assert_eq!(
+                angle_raw(cdeg),
+                map_scaled(i32::from(cdeg), 100, 200),
+                "{cdeg}"
+            );
+        }
+        assert_eq!(angle_raw(0), 32767);
+        assert_eq!(angle_raw(-20_000), 0);
+        assert_eq!(angle_raw(i16::MAX), 65534);
+    }
+
+    #[test]
+    fn the_outer_angle_truncates_the_integrator_toward_zero() {
+        let mut r = Remote::new();
+        let mut signs = [false; 2];
+        // Steer one way past the limit, then back past zero to the other limit.
+        for (width, passes) in [(1100, 2000), (1600, 3500)] {
+            r.pulse(1, width);
+            for _ in 0..passes {
+                let p = r.pass();
+                let outer = (r.steer_udeg() / 10_000) as i16;
+                assert_eq!(
+                    p.angles,
+                    steer::wheel_angles(outer, false),
+                    "{}",
+                    r.steer_udeg()
+                );
+                if r.steer_udeg() % 10_000 != 0 {
+                    signs[usize::from(r.steer_udeg() > 0)] = true;
+                }
+            }
+        }
+        assert_eq!(
+            signs,
+            [true, true],
+            "remainders of both signs were truncated"
+        );
+        assert_eq!(r.steer_udeg(), steer::STEER_LIMIT_UDEG);
     }
 }

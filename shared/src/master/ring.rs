@@ -54,12 +54,17 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         Some(value)
     }
 
-    /// Replaces the newest value with `value` (nothing happens on an empty queue).
-    pub fn replace_back(&mut self, value: T) {
-        if let Some(last) = self.len.checked_sub(1) {
-            let i = self.at(last);
-            self.slots[i] = value;
+    /// Appends `value`; a full queue keeps its length and has its newest value replaced
+    /// by `instead` (the receive task marks a byte it had no room for this way). One
+    /// store either way, so the interrupt handler stays short.
+    pub fn push_or_replace(&mut self, value: T, instead: T) {
+        let full = usize::from(self.len) == N;
+        if !full {
+            self.len += 1;
         }
+        // len ≥ 1 here.
+        let i = self.at(self.len.wrapping_sub(1));
+        self.slots[i] = if full { instead } else { value };
     }
 
     /// Whether the queue holds nothing.
@@ -94,21 +99,24 @@ mod tests {
     }
 
     #[test]
-    fn a_full_queue_refuses_and_replace_back_overwrites_the_newest() {
+    fn a_full_queue_refuses_and_push_or_replace_overwrites_the_newest() {
         let mut q: Ring<u16, 8> = Ring::new(0);
-        q.replace_back(99);
-        assert!(q.is_empty(), "replacing in an empty queue adds nothing");
+        q.push_or_replace(1, 99);
+        assert_eq!(q.len(), 1, "room: the value is appended");
+        assert_eq!(q.pop_front(), Some(1));
         // Start off the zero index so the back wraps.
         for v in 0..5 {
             q.push_back(v).unwrap();
             q.pop_front();
         }
-        for v in 100..108 {
+        for v in 100..107 {
             assert_eq!(q.push_back(v), Ok(()));
         }
+        q.push_or_replace(107, 99);
         assert_eq!(q.push_back(108), Err(108));
         assert_eq!(q.len(), 8);
-        q.replace_back(7);
+        q.push_or_replace(109, 7);
+        assert_eq!(q.len(), 8, "full: the length stays");
         let out: Vec<u16> = core::iter::from_fn(|| q.pop_front()).collect();
         assert_eq!(out, [100, 101, 102, 103, 104, 105, 106, 7]);
     }

@@ -99,21 +99,24 @@ impl Service {
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
         let kind = Sizes::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
-        for w in writes.clone() {
-            match kind.is_writable(w.id) {
-                Some(true) => {}
-                Some(false) => return Err(LinkError::ReadOnly),
-                None => return Err(LinkError::Frame(FrameError::UnknownRegister)),
-            }
-        }
-        for w in writes {
-            if device == 0 {
-                self.local.write(w.id, w.raw);
-            } else {
-                let size = usize::from(kind.size_of(w.id).unwrap_or(1));
-                let bytes = w.raw.to_le_bytes();
-                bus.write_register(device, w.id, &bytes[..size.min(2)])
-                    .map_err(|_| LinkError::NoAnswer)?;
+        // Two passes over one loop (check, then apply), so the firmware holds one copy of
+        // the decoding.
+        for apply in [false, true] {
+            for w in writes.clone() {
+                if !apply {
+                    match kind.is_writable(w.id) {
+                        Some(true) => {}
+                        Some(false) => return Err(LinkError::ReadOnly),
+                        None => return Err(LinkError::Frame(FrameError::UnknownRegister)),
+                    }
+                } else if device == 0 {
+                    self.local.write(w.id, w.raw);
+                } else {
+                    let size = usize::from(kind.size_of(w.id).unwrap_or(1));
+                    let bytes = w.raw.to_le_bytes();
+                    bus.write_register(device, w.id, &bytes[..size.min(2)])
+                        .map_err(|_| LinkError::NoAnswer)?;
+                }
             }
         }
         reply(0);
@@ -149,10 +152,14 @@ impl Service {
                 continue;
             };
             if device == 0 {
-                let raw = self.local.read(*first).unwrap_or(0).to_le_bytes();
-                raw[..usize::from(size).min(2)]
-                    .iter()
-                    .for_each(|&b| reply(b));
+                // The first `size` bytes of the value (at most two), LSB first.
+                let [lo, hi] = self.local.read(*first).unwrap_or(0).to_le_bytes();
+                if size >= 1 {
+                    reply(lo);
+                }
+                if size >= 2 {
+                    reply(hi);
+                }
                 rest = &rest[1..];
                 continue;
             }

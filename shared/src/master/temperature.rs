@@ -30,7 +30,7 @@ mod poll;
 mod search;
 
 pub use convert::{crc8, half_degrees, reading, register_raw, ReadingError};
-pub use poll::{Poller, Sensors, Tick};
+pub use poll::{Plan, Poller, Sensors, Tick};
 pub use search::{RomSearch, SearchError};
 
 /// A OneWire ROM id: family code, six serial bytes (byte 1 first), CRC8.

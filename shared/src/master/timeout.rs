@@ -23,9 +23,10 @@ pub const INTER_BYTE_TIMEOUT_MS: u32 = 50;
 /// Tracks the time since the last byte of a partial frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct InterByteTimeout {
-    /// When the last byte of the current partial frame was taken (ms, wrapping);
+    /// When the last byte of the current partial frame was taken: the low 16 bits of the
+    /// ms clock (the gaps measured are far below 65 s: the loop checks every few ms);
     /// `None` between frames.
-    last_byte_ms: Option<u32>,
+    last_byte_ms: Option<u16>,
 }
 
 impl InterByteTimeout {
@@ -37,7 +38,7 @@ impl InterByteTimeout {
     /// A byte was taken from the receive buffer at `now_ms`; `in_frame` says whether the
     /// parser is now in the middle of a frame (false once the byte completed one).
     pub fn byte(&mut self, now_ms: u32, in_frame: bool) {
-        self.last_byte_ms = in_frame.then_some(now_ms);
+        self.last_byte_ms = in_frame.then_some(now_ms as u16);
     }
 
     /// Whether the partial frame has timed out at `now_ms`. Never true while
@@ -46,7 +47,10 @@ impl InterByteTimeout {
     /// frame (`Parser::abort`) and records `FrameError::Truncated`.
     pub fn expired(&mut self, now_ms: u32, byte_waiting: bool) -> bool {
         match self.last_byte_ms {
-            Some(last) if !byte_waiting && now_ms.wrapping_sub(last) > INTER_BYTE_TIMEOUT_MS => {
+            Some(last)
+                if !byte_waiting
+                    && u32::from((now_ms as u16).wrapping_sub(last)) > INTER_BYTE_TIMEOUT_MS =>
+            {
                 self.last_byte_ms = None;
                 true
             }

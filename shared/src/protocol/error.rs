@@ -4,24 +4,27 @@ use core::fmt;
 
 /// Why a received frame was rejected. The codes go over the wire and are stable.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+// Numbered by wire code: `code` is the discriminant, and `LinkError`, whose other
+// variants take the values after these, holds its own code in its one byte.
+#[repr(u8)]
 pub enum FrameError {
     /// The length byte is 0, 1 or 2: shorter than the 3-byte minimum.
-    BadLength,
+    BadLength = 1,
     /// The device nibble is 10..=15: no such board.
-    BadDevice,
+    BadDevice = 2,
     /// The command nibble is not 2 (write), 3 (read) or 4 (set read set).
-    UnknownCommand,
+    UnknownCommand = 3,
     /// A write names an id that the device's table does not have, so it cannot be sized.
-    UnknownRegister,
+    UnknownRegister = 4,
     /// The payload does not exactly fit the command (count, ids and value sizes).
-    LengthMismatch,
+    LengthMismatch = 5,
     /// A read-set index is 8 or more.
-    BadReadSet,
+    BadReadSet = 6,
     /// A set-read-set frame carries more than 24 ids.
-    ReadSetTooLarge,
+    ReadSetTooLarge = 7,
     /// A frame stopped arriving before its last byte and was dropped (inter-byte
     /// timeout). The parser never yields it; the link that calls `Parser::abort` does.
-    Truncated,
+    Truncated = 8,
 }
 
 impl FrameError {
@@ -39,16 +42,7 @@ impl FrameError {
 
     /// The error's wire code: non-zero and stable.
     pub const fn code(self) -> u8 {
-        match self {
-            FrameError::BadLength => 1,
-            FrameError::BadDevice => 2,
-            FrameError::UnknownCommand => 3,
-            FrameError::UnknownRegister => 4,
-            FrameError::LengthMismatch => 5,
-            FrameError::BadReadSet => 6,
-            FrameError::ReadSetTooLarge => 7,
-            FrameError::Truncated => 8,
-        }
+        self as u8
     }
 
     /// The error with this wire code, if any.

@@ -2,16 +2,20 @@
 //! validated [`Request`] or a [`FrameError`], all or nothing, and never loses sync
 //! beyond the frame it is in.
 
-use super::{Command, Frame, FrameError, Rejected, Request, SizeOf, Writes};
+use super::sizes::Sizes;
+use super::{Command, Frame, FrameError, Rejected, Request, SizesOf, Writes};
 use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
 
 /// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
+// In declaration order, the count first: the AVR reaches it from the parser's address
+// with a short displacement, where after the buffer it would need its own pointer.
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct Parser {
-    buf: [u8; MAX_FRAME],
     /// Bytes of the current frame received so far; 0 between frames.
     len: u8,
+    buf: [u8; MAX_FRAME],
 }
 
 impl Default for Parser {
@@ -67,7 +71,7 @@ impl Parser {
         // `frame_len` <= 255 = the buffer's length; an empty slice would be BadLength.
         let frame = self.buf.get(..frame_len).unwrap_or(&[]);
         let header = frame.get(1).copied();
-        Some(validate(frame, board_size_of).map_err(|error| Rejected { error, header }))
+        Some(validate(frame, Sizes::of_device).map_err(|error| Rejected { error, header }))
     }
 
     /// Drops a partial frame (the link's inter-byte timeout); returns true if one was
@@ -84,13 +88,9 @@ impl Parser {
     }
 }
 
-/// A register's size on the boards of the real rover.
-fn board_size_of(device: u8, id: u8) -> Option<u8> {
-    super::sizes::Sizes::of_device(device).and_then(|sizes| sizes.size_of(id))
-}
-
-/// Validates a complete frame. `size_of(device, id)` gives a register's size in bytes.
-pub(crate) fn validate(frame: &[u8], size_of: SizeOf) -> Result<Frame<'_>, FrameError> {
+/// Validates a complete frame. `sizes_of(device)` gives the table that sizes the
+/// device's registers.
+pub(crate) fn validate(frame: &[u8], sizes_of: SizesOf) -> Result<Frame<'_>, FrameError> {
     let [_, header, payload @ ..] = frame else {
         return Err(FrameError::BadLength);
     };
@@ -104,7 +104,9 @@ pub(crate) fn validate(frame: &[u8], size_of: SizeOf) -> Result<Frame<'_>, Frame
     match Command::from_u8(header & 0x0f) {
         None => Err(FrameError::UnknownCommand),
         Some(Command::Write) => {
-            let writes = parse_writes(device, payload, size_of)?;
+            // A device with no board has no register to size.
+            let sizes = sizes_of(device).unwrap_or(Sizes::EMPTY);
+            let writes = parse_writes(payload, sizes)?;
             Ok(Frame::Write { device, writes })
         }
         Some(Command::Read) => match payload {
@@ -133,7 +135,7 @@ pub(crate) fn validate(frame: &[u8], size_of: SizeOf) -> Result<Frame<'_>, Frame
 
 /// Checks a write payload: count k, then k × (id, value of the id's size, LSB first),
 /// filling the payload exactly.
-fn parse_writes(device: u8, payload: &[u8], size_of: SizeOf) -> Result<Writes<'_>, FrameError> {
+fn parse_writes(payload: &[u8], sizes: Sizes) -> Result<Writes<'_>, FrameError> {
     let [count, entries @ ..] = payload else {
         return Err(FrameError::LengthMismatch);
     };
@@ -145,7 +147,7 @@ fn parse_writes(device: u8, payload: &[u8], size_of: SizeOf) -> Result<Writes<'_
         let [id, after_id @ ..] = rest else {
             return Err(FrameError::LengthMismatch);
         };
-        let size = size_of(device, *id).ok_or(FrameError::UnknownRegister)?;
+        let size = sizes.size_of(*id).ok_or(FrameError::UnknownRegister)?;
         rest = match (size, after_id) {
             (1, [_, tail @ ..]) => tail,
             (2, [_, _, tail @ ..]) => tail,
@@ -154,10 +156,9 @@ fn parse_writes(device: u8, payload: &[u8], size_of: SizeOf) -> Result<Writes<'_
     }
     if rest.is_empty() {
         Ok(Writes {
-            device,
             remaining: *count,
             bytes: entries,
-            size_of,
+            sizes,
         })
     } else {
         Err(FrameError::LengthMismatch)

@@ -10,7 +10,20 @@ use crate::regs::{LL_FLAGS_FLASH, MASTER_FLAGS_FLASH};
 #[derive(Clone, Copy)]
 pub struct Sizes(&'static Flash<[u8]>);
 
+crate::flash_table! {
+    /// A table without registers.
+    static NO_REGISTERS: [u8; 0] = [];
+}
+
 impl Sizes {
+    /// The table of a device with no board: it has no register.
+    pub const EMPTY: Sizes = Sizes::new(NO_REGISTERS.as_slice());
+
+    /// A table of flag bytes (size | writable), index = id.
+    pub const fn new(flags: &'static Flash<[u8]>) -> Sizes {
+        Sizes(flags)
+    }
+
     /// The table of the board at `device`, or `None` if no board has that number. Kept
     /// out of line: one copy of the device-to-board decision serves every caller.
     #[inline(never)]
@@ -20,7 +33,7 @@ impl Sizes {
 
     /// The table of a board kind.
     pub fn of(kind: BoardKind) -> Sizes {
-        Sizes(match kind {
+        Sizes::new(match kind {
             BoardKind::Master => MASTER_FLAGS_FLASH.as_slice(),
             BoardKind::DriveSteer => DS_FLAGS_FLASH.as_slice(),
             BoardKind::LiftLift => LL_FLAGS_FLASH.as_slice(),

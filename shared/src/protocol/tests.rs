@@ -7,6 +7,7 @@ use heapless::Vec;
 use super::encode::encode_write_sized;
 use super::parser::validate;
 use super::reply::decode_sized;
+use super::sizes::Sizes;
 use super::*;
 use crate::regs::BoardKind;
 
@@ -16,6 +17,16 @@ fn hypothetical(id: u8) -> Option<u8> {
         2 | 3 => Some(2),
         _ => None,
     }
+}
+
+crate::flash_table! {
+    /// [`hypothetical`] as a flag table (sizes only: the framing reads no writability).
+    static HYPOTHETICAL_FLAGS: [u8; 4] = [1, 1, 2, 2];
+}
+
+/// [`hypothetical`] as the parser reads it, for any device.
+fn hypothetical_sizes(_device: u8) -> Option<Sizes> {
+    Some(Sizes::new(HYPOTHETICAL_FLAGS.as_slice()))
 }
 
 const EXAMPLE_1: [u8; 13] = [
@@ -30,7 +41,7 @@ fn writes(list: &[(u8, u16)]) -> Vec<Write, MAX_WRITES> {
 fn example_1_write_to_slave_3_framing() {
     let expected = writes(&[(0, 0xff), (1, 0xff), (2, 0x0001), (3, 0x0002)]);
     assert_eq!(
-        validate(&EXAMPLE_1, |_, id| hypothetical(id)).map(|f| f.to_request()),
+        validate(&EXAMPLE_1, hypothetical_sizes).map(|f| f.to_request()),
         Ok(Request::Write {
             device: 3,
             writes: expected.clone()
@@ -57,7 +68,7 @@ fn example_2_set_read_set_corrected_length() {
     let frame = [0x07, 0x04, 0x01, 0x00, 0x01, 0x02, 0x03];
     let ids: Vec<u8, READ_SET_SIZE> = [0u8, 1, 2, 3].into_iter().collect();
     assert_eq!(
-        validate(&frame, |_, id| hypothetical(id)).map(|f| f.to_request()),
+        validate(&frame, hypothetical_sizes).map(|f| f.to_request()),
         Ok(Request::SetReadSet {
             device: 0,
             set: 1,
@@ -76,7 +87,7 @@ fn example_3_read_set_1_from_slave_1_and_its_reply() {
     let frame = encode_read(1, 1);
     assert_eq!(frame, [0x03, 0x13, 0x01]);
     assert_eq!(
-        validate(&frame, |_, id| hypothetical(id)).map(|f| f.to_request()),
+        validate(&frame, hypothetical_sizes).map(|f| f.to_request()),
         Ok(Request::Read { device: 1, set: 1 })
     );
     let reply = [0xff, 0xff, 0x01, 0x00, 0x02, 0x00];

@@ -57,9 +57,11 @@ impl RegWrite {
 
 /// One thing for the firmware to do now.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+// Numbered from 1 so that no action in flight is stored as 0 (see `Job`).
+#[repr(u8)]
 pub enum Action {
     /// Write one slave register (one I2C transaction).
-    WriteReg(RegWrite),
+    WriteReg(RegWrite) = 1,
     /// Read REG_STATUS (2 bytes) of a slave; report [`Outcome::Value`].
     ReadStatus {
         /// The slave, 1..9.

@@ -48,14 +48,14 @@ impl Health {
     }
 
     /// Records an access to `device` at `now_ms`.
-    fn tried(&mut self, device: u8, now_ms: u32) {
+    fn tried(&mut self, device: u8, now_ms: u16) {
         if let Some(t) = self.tried_ms.get_mut(usize::from(device)) {
-            *t = now_ms as u16;
+            *t = now_ms;
         }
     }
 
     /// The slave answered an access at `now_ms`.
-    pub fn answered(&mut self, device: u8, now_ms: u32) {
+    pub fn answered(&mut self, device: u8, now_ms: u16) {
         let b = bit(device);
         self.present |= b;
         self.missed &= !b;
@@ -64,7 +64,7 @@ impl Health {
     }
 
     /// The slave failed to answer an access at `now_ms`.
-    pub fn failed(&mut self, device: u8, now_ms: u32) -> Miss {
+    pub fn failed(&mut self, device: u8, now_ms: u16) -> Miss {
         let b = bit(device);
         if self.present & b == 0 {
             return Miss::Ignored;
@@ -84,15 +84,17 @@ impl Health {
 
     /// The present slave accessed longest ago at `now_ms` and how long ago (ms); the
     /// lowest number wins a tie. `None` if no slave is present.
-    pub fn stalest(&self, now_ms: u32) -> Option<(u8, u16)> {
-        let now = now_ms as u16;
+    pub fn stalest(&self, now_ms: u16) -> Option<(u8, u16)> {
+        // Device 0 is never present, so its slot is skipped like any absent slave.
         let mut best: Option<(u8, u16)> = None;
-        for d in 1..=9u8 {
-            if self.present & bit(d) == 0 {
+        let mut present = self.present;
+        for (d, &tried) in (0u8..).zip(self.tried_ms.iter()) {
+            let here = present & 1 != 0;
+            present >>= 1;
+            if !here {
                 continue;
             }
-            let tried = self.tried_ms.get(usize::from(d)).copied().unwrap_or(now);
-            let age = now.wrapping_sub(tried);
+            let age = now_ms.wrapping_sub(tried);
             if best.is_none_or(|(_, a)| age > a) {
                 best = Some((d, age));
             }

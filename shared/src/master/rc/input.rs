@@ -22,11 +22,21 @@ pub const INPUT_DEADBAND: i16 = 100;
 /// number above 2.
 pub fn normalise(channel: usize, width_us: u16) -> Option<i16> {
     let (mn, mx) = CALIBRATION_FLASH.get(channel)?;
-    let span = i32::from(mx) - i32::from(mn);
-    // |w − mn| ≤ 65535, so the product fits an i32; span is never 0.
-    let scaled = (i32::from(width_us) - i32::from(mn)) * 2000 / span;
-    // 0..=2000 minus 1000 fits an i16.
-    let value = (scaled.clamp(0, 2000) - 1000) as i16;
+    // The same value in unsigned 16-bit steps (one division, no signs): the distance
+    // from mn towards mx, 0 on the far side of mn and the full 2000 past mx.
+    let span = mn.abs_diff(mx);
+    let from_mn = if mx > mn {
+        width_us.checked_sub(mn)
+    } else {
+        mn.checked_sub(width_us)
+    };
+    let scaled = match from_mn {
+        None => 0,
+        Some(d) if d >= span => 2000,
+        // d < span ≤ 65535, so d·2000 fits a u32 and the quotient is below 2000.
+        Some(d) => (u32::from(d) * 2000 / u32::from(span)) as i16,
+    };
+    let value = scaled - 1000;
     Some(if value.abs() < INPUT_DEADBAND {
         0
     } else {
@@ -80,5 +90,38 @@ impl PulseTimer {
         }
         self.levels = levels;
         widths
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The signed formula the firmware's unsigned steps replace.
+    fn reference(channel: usize, width_us: u16) -> Option<i16> {
+        let (mn, mx) = *CALIBRATION.get(channel)?;
+        let span = i32::from(mx) - i32::from(mn);
+        let scaled = (i32::from(width_us) - i32::from(mn)) * 2000 / span;
+        let value = (scaled.clamp(0, 2000) - 1000) as i16;
+        Some(if value.abs() < INPUT_DEADBAND {
+            0
+        } else {
+            value
+        })
+    }
+
+    #[test]
+    fn every_width_on_every_channel_normalises_as_the_signed_formula() {
+        for channel in 0..=CHANNELS {
+            for w in 0..=u16::MAX {
+                assert_eq!(
+                    normalise(channel, w),
+                    reference(channel, w),
+                    "{channel} {w}"
+                );
+            }
+        }
+        assert_eq!(normalise(1, 940), Some(1000));
+        assert_eq!(normalise(2, 1355), Some(0));
     }
 }

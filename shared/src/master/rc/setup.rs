@@ -77,46 +77,62 @@ pub const LINK_UP_WRITES: usize = RESETS + DS_CONTROLLERS.len() * PER_BOARD;
 /// wheel order the drive block, the steer block and the calibration.
 #[derive(Clone, Debug, Default)]
 pub struct LinkUpWrites {
-    next: usize,
+    /// REG_RESET writes sent (devices 0..`resets`).
+    resets: u8,
+    /// The drive/steer board being configured (index into [`DS_CONTROLLERS`]).
+    wheel: u8,
+    /// The next write on that board: the drive block, the steer block, CALIBMIN,
+    /// CALIBMAX. Counters rather than one write number, so no division is needed.
+    item: u8,
 }
 
 impl LinkUpWrites {
     /// From the first write.
     pub const fn new() -> Self {
-        LinkUpWrites { next: 0 }
-    }
-}
-
-/// Write number `n` of the first link-up.
-fn link_up_write(n: usize) -> Option<RegWrite> {
-    if n < RESETS {
-        return Some(RegWrite::byte(n as u8, id::REG_RESET, 1));
-    }
-    let k = n - RESETS;
-    let wheel = k / PER_BOARD;
-    let device = DS_CONTROLLERS_FLASH.get(wheel)?;
-    let item = k % PER_BOARD;
-    let (reg, raw) = if let Some(w) = DRIVE_BLOCK_FLASH.get(item) {
-        w
-    } else if let Some(w) = STEER_BLOCK_FLASH.get(item - DRIVE_BLOCK.len()) {
-        w
-    } else {
-        let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
-        if item == PER_BOARD - 2 {
-            (id::REGDS_STEER_CALIBMIN, u16::from(min))
-        } else {
-            (id::REGDS_STEER_CALIBMAX, u16::from(max))
+        LinkUpWrites {
+            resets: 0,
+            wheel: 0,
+            item: 0,
         }
-    };
-    RegWrite::sized(device, reg, raw)
+    }
+
+    /// The write at the current position, without moving on.
+    fn current(&self) -> Option<RegWrite> {
+        if usize::from(self.resets) < RESETS {
+            return Some(RegWrite::byte(self.resets, id::REG_RESET, 1));
+        }
+        let wheel = usize::from(self.wheel);
+        let device = DS_CONTROLLERS_FLASH.get(wheel)?;
+        let item = usize::from(self.item);
+        let (reg, raw) = if let Some(w) = DRIVE_BLOCK_FLASH.get(item) {
+            w
+        } else if let Some(w) = STEER_BLOCK_FLASH.get(item - DRIVE_BLOCK.len()) {
+            w
+        } else {
+            let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
+            if item == PER_BOARD - 2 {
+                (id::REGDS_STEER_CALIBMIN, u16::from(min))
+            } else {
+                (id::REGDS_STEER_CALIBMAX, u16::from(max))
+            }
+        };
+        RegWrite::sized(device, reg, raw)
+    }
 }
 
 impl Iterator for LinkUpWrites {
     type Item = RegWrite;
 
     fn next(&mut self) -> Option<RegWrite> {
-        let w = link_up_write(self.next)?;
-        self.next += 1;
+        let w = self.current()?;
+        if usize::from(self.resets) < RESETS {
+            self.resets += 1;
+        } else if usize::from(self.item) + 1 < PER_BOARD {
+            self.item += 1;
+        } else {
+            self.item = 0;
+            self.wheel += 1;
+        }
         Some(w)
     }
 }

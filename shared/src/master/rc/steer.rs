@@ -52,31 +52,24 @@ pub fn tables() -> (&'static [u16; 46], &'static [u16; 33]) {
 }
 
 /// Linear interpolation between `table[index]` and `table[index + 1]` at `frac / step`.
-fn lerp(table: &'static Flash<[u16]>, index: usize, frac: u32, step: u32) -> u32 {
-    let a = table.get(index).map_or(0, u32::from);
-    let b = table.get(index + 1).map_or(a, u32::from);
+/// A rise times `frac` fits 32 bits (rises ≤ 1124, `frac` < 1024), and the result lies
+/// between two table values, so it fits 16.
+fn lerp(table: &'static Flash<[u16]>, index: u16, frac: u16, step: u16) -> u16 {
+    let a = table.get(usize::from(index)).unwrap_or(0);
+    let b = table.get(usize::from(index) + 1).unwrap_or(a);
     // Tables rise monotonically, so b ≥ a; round to nearest.
-    a + ((b - a) * frac + step / 2) / step
+    let rise = (u32::from(b - a) * u32::from(frac) + u32::from(step / 2)) / u32::from(step);
+    a + rise as u16
 }
 
 /// tan of `cdeg` (0..=4500) in Q15.
-fn tan_q15(cdeg: u32) -> u32 {
-    lerp(
-        TAN_Q15_FLASH.as_slice(),
-        (cdeg / 100) as usize,
-        cdeg % 100,
-        100,
-    )
+fn tan_q15(cdeg: u16) -> u16 {
+    lerp(TAN_Q15_FLASH.as_slice(), cdeg / 100, cdeg % 100, 100)
 }
 
 /// atan of `t` (Q15, 0..=1.0) in cdeg.
-fn atan_cdeg(t: u32) -> u32 {
-    lerp(
-        ATAN_CDEG_FLASH.as_slice(),
-        (t / 1024) as usize,
-        t % 1024,
-        1024,
-    )
+fn atan_cdeg(t: u16) -> u16 {
+    lerp(ATAN_CDEG_FLASH.as_slice(), t / 1024, t % 1024, 1024)
 }
 
 /// One step of the steer integrator: s := clamp(s − 0.03°·steer, −30°, +30°), with s in
@@ -91,11 +84,12 @@ pub fn inner_angle(outer: i16) -> i16 {
     if outer.unsigned_abs() < ACKERMANN_MIN_CDEG as u16 {
         return outer;
     }
-    let a = u32::from(outer.unsigned_abs().min(GEOMETRY_MAX_CDEG as u16));
-    let t = tan_q15(a);
+    let a = outer.unsigned_abs().min(GEOMETRY_MAX_CDEG as u16);
+    let t = u32::from(tan_q15(a));
     // 1 + (S/W)·t in Q15; t ≤ 1.0, so every product fits a u32.
     let d = ONE_Q15 + S10 * t / W10;
-    let ti = t * ONE_Q15 / d;
+    // t ≤ d, so the quotient is at most 1.0 in Q15.
+    let ti = (t * ONE_Q15 / d) as u16;
     // ≤ 4500, so it fits an i16.
     let inner = atan_cdeg(ti) as i16;
     if outer < 0 {
@@ -119,4 +113,40 @@ pub fn wheel_angles(outer: i16, crab: bool) -> [i16; 6] {
         (-inner, -outer, inner, outer)
     };
     [w1, w2, 0, 0, w5, w6]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first integer version of the geometry (u32 throughout), kept as the reference
+    /// the firmware's narrower arithmetic must match exactly.
+    fn reference_inner(outer: i16) -> i16 {
+        fn lerp(table: &[u16], index: usize, frac: u32, step: u32) -> u32 {
+            let a = table.get(index).map_or(0, |&v| u32::from(v));
+            let b = table.get(index + 1).map_or(a, |&v| u32::from(v));
+            a + ((b - a) * frac + step / 2) / step
+        }
+        if outer.unsigned_abs() < ACKERMANN_MIN_CDEG as u16 {
+            return outer;
+        }
+        let a = u32::from(outer.unsigned_abs().min(GEOMETRY_MAX_CDEG as u16));
+        let t = lerp(&TAN_Q15, (a / 100) as usize, a % 100, 100);
+        let d = ONE_Q15 + S10 * t / W10;
+        let ti = t * ONE_Q15 / d;
+        let inner = lerp(&ATAN_CDEG, (ti / 1024) as usize, ti % 1024, 1024) as i16;
+        if outer < 0 {
+            -inner
+        } else {
+            inner
+        }
+    }
+
+    #[test]
+    fn every_outer_angle_gives_the_reference_inner_angle() {
+        for outer in i16::MIN..=i16::MAX {
+            assert_eq!(inner_angle(outer), reference_inner(outer), "{outer}");
+        }
+        assert_eq!(inner_angle(-3000), -1677);
+    }
 }

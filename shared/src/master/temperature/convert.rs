@@ -22,6 +22,8 @@ pub enum ReadingError {
 
 /// The Dallas/Maxim CRC8 (x⁸ + x⁵ + x⁴ + 1, LSB first, initial 0) of `bytes`. A ROM or a
 /// scratchpad whose last byte is the CRC of the others has a CRC8 of 0 over all bytes.
+// Out of line: the ROM search and each scratchpad read share one copy.
+#[inline(never)]
 pub fn crc8(bytes: &[u8]) -> u8 {
     let mut crc = 0u8;
     for &byte in bytes {

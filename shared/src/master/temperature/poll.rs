@@ -11,9 +11,12 @@ use crate::exception::{ExceptionType, MasterException};
 
 /// The devices the start-up search found (at most ten; later ones are ignored).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+// In declaration order, the count first: the AVR reaches it with a short displacement
+// from the struct's address.
+#[repr(C)]
 pub struct Sensors {
-    roms: [Rom; SENSORS],
     count: u8,
+    roms: [Rom; SENSORS],
 }
 
 impl Default for Sensors {
@@ -57,8 +60,13 @@ impl Sensors {
     /// The ROM of sensor `sensor` (0 = ambient, n = controller n), if a device with its
     /// ROM byte 1 was found.
     pub fn locate(&self, sensor: u8) -> Option<Rom> {
+        self.find(sensor).copied()
+    }
+
+    /// As [`Sensors::locate`], without copying the ROM.
+    pub fn find(&self, sensor: u8) -> Option<&Rom> {
         let byte1 = SENSOR_ROM_BYTE1_FLASH.get(usize::from(sensor))?;
-        self.roms().iter().find(|rom| rom[1] == byte1).copied()
+        self.roms().iter().find(|rom| rom[1] == byte1)
     }
 }
 
@@ -80,14 +88,38 @@ impl Tick {
     /// if a sensor it needed is missing. The firmware hands it to `Schedule::raise`,
     /// which latches it and spreads it to all nine slaves.
     pub const fn exception(&self) -> Option<MasterException> {
-        match self.missing {
-            Some(_) => Some(MasterException {
-                kind: ExceptionType::SensorMissing,
-                slave: 0,
-                motor: 0,
-            }),
-            None => None,
-        }
+        missing_exception(self.missing)
+    }
+}
+
+/// A tick by sensor ids only ([`Tick`] without the ROMs): what the firmware keeps, as it
+/// finds each ROM again when it addresses the sensor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plan {
+    /// The sensor to read, if it is on the bus.
+    pub read: Option<u8>,
+    /// The sensor to start a conversion on, if it is on the bus.
+    pub convert: Option<u8>,
+    /// A sensor id the tick needed that is not on the bus (see [`Tick::missing`]).
+    pub missing: Option<u8>,
+}
+
+impl Plan {
+    /// The exception to raise for this tick, as [`Tick::exception`].
+    pub const fn exception(&self) -> Option<MasterException> {
+        missing_exception(self.missing)
+    }
+}
+
+/// Type 10 (sensor missing) on the master, if a sensor is `missing`.
+const fn missing_exception(missing: Option<u8>) -> Option<MasterException> {
+    match missing {
+        Some(_) => Some(MasterException {
+            kind: ExceptionType::SensorMissing,
+            slave: 0,
+            motor: 0,
+        }),
+        None => None,
     }
 }
 
@@ -117,10 +149,21 @@ impl Poller {
     /// One temperature tick: read sensor i, start a conversion on sensor i + 1 (wrapping
     /// at D), and move on to i + 1.
     pub fn tick(&mut self, sensors: &Sensors) -> Tick {
+        let plan = self.plan(sensors);
+        let with_rom = |id: u8| sensors.locate(id).map(|rom| (id, rom));
+        Tick {
+            read: plan.read.and_then(with_rom),
+            convert: plan.convert.and_then(with_rom),
+            missing: plan.missing,
+        }
+    }
+
+    /// As [`Poller::tick`], by sensor ids only.
+    pub fn plan(&mut self, sensors: &Sensors) -> Plan {
         let count = sensors.count();
         if count == 0 {
             // Nothing was found, so the ambient sensor, read first, is missing.
-            return Tick {
+            return Plan {
                 read: None,
                 convert: None,
                 missing: Some(0),
@@ -129,17 +172,63 @@ impl Poller {
         let read_id = self.next % count;
         let convert_id = (read_id + 1) % count;
         self.next = convert_id;
-        let read = sensors.locate(read_id).map(|rom| (read_id, rom));
-        let convert = sensors.locate(convert_id).map(|rom| (convert_id, rom));
+        let on_bus = |id: u8| sensors.find(id).map(|_| id);
+        let read = on_bus(read_id);
+        let convert = on_bus(convert_id);
         let missing = match (read, convert) {
             (None, _) => Some(read_id),
             (_, None) => Some(convert_id),
             _ => None,
         };
-        Tick {
+        Plan {
             read,
             convert,
             missing,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::master::temperature::SENSOR_ROM_BYTE1;
+
+    /// A ROM whose byte 1 names `sensor`.
+    fn rom_of(sensor: usize) -> Rom {
+        [0x28, SENSOR_ROM_BYTE1[sensor], 0, 0, 0, 0, 0, 0]
+    }
+
+    #[test]
+    fn the_plan_names_the_sensors_the_tick_addresses() {
+        // Sensors 0, 1 and 3 of four devices; the fourth device is no sensor of ours.
+        let mut sensors = Sensors::new();
+        for rom in [
+            rom_of(0),
+            rom_of(1),
+            rom_of(3),
+            [0x28, 0xee, 0, 0, 0, 0, 0, 0],
+        ] {
+            assert!(sensors.push(rom));
+        }
+        assert_eq!(sensors.find(3), Some(&rom_of(3)));
+        assert_eq!(sensors.find(2), None);
+        let (mut by_plan, mut by_tick) = (Poller::new(), Poller::new());
+        let mut seen = [0u8; 3];
+        for _ in 0..8 {
+            let plan = by_plan.plan(&sensors);
+            let tick = by_tick.tick(&sensors);
+            assert_eq!(plan.read, tick.read.map(|(id, _)| id));
+            assert_eq!(plan.convert, tick.convert.map(|(id, _)| id));
+            assert_eq!(plan.missing, tick.missing);
+            assert_eq!(plan.exception(), tick.exception());
+            if let Some(slot) = plan.missing.and_then(|m| seen.get_mut(usize::from(m))) {
+                *slot += 1;
+            }
+        }
+        // D = 4: ticks read 0, 1, 2, 3 in turn; sensor 2 is missing twice per round
+        // (read, and converted by the tick before).
+        assert_eq!(seen, [0, 0, 4]);
+        let empty = Poller::new().plan(&Sensors::new());
+        assert_eq!((empty.read, empty.missing), (None, Some(0)));
     }
 }
