@@ -16,6 +16,7 @@ pub mod pcint;
 pub mod pin;
 pub mod pwm;
 pub mod rc_pins;
+pub mod runtime;
 pub mod sleep;
 pub mod stack;
 pub mod tick;

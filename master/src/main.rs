@@ -35,7 +35,6 @@
 #![feature(asm_experimental_arch)]
 
 mod banner;
-mod builtins;
 mod leds;
 mod link;
 mod panic;
@@ -44,6 +43,10 @@ mod relay;
 mod remote;
 mod temperature;
 mod traffic;
+
+// The compiler's runtime routines (32-bit division, memcpy, memset), small (drivers::runtime).
+drivers::division_routines!();
+drivers::mem_routines!();
 
 use drivers::onewire::OneWire;
 use drivers::pcint::PortDChanges;

@@ -24,7 +24,6 @@ pub mod boot;
 pub mod bus;
 pub mod clock;
 pub mod encoder;
-pub mod mem;
 mod panic;
 pub mod registers;
 pub mod sampler;
@@ -41,7 +40,8 @@ macro_rules! firmware {
     ($board:ident) => {
         use $crate::shared_types::*;
 
-        $crate::mem_routines!();
+        // memcpy and memset, small (drivers::runtime).
+        drivers::mem_routines!();
 
         executor::app! {
             #[shared]

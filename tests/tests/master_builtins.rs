@@ -1,4 +1,4 @@
-//! Emulator test of the master's runtime routines (`master/src/builtins.rs`) through
+//! Emulator test of the images' runtime routines (`drivers/src/runtime.rs`) through
 //! `fixture_builtins`, which links them as the master does: 32-bit unsigned and signed
 //! division with edge values, and `memcpy`/`memset` of every length and offset, each
 //! checked against the host's own result.

@@ -1,5 +1,5 @@
-//! Fixture: the master's own runtime routines (`master/src/builtins.rs`: 32-bit division,
-//! `memcpy`, `memset`), linked in place of the toolchain's exactly as in the master image
+//! Fixture: the images' own runtime routines (`drivers/src/runtime.rs`: 32-bit division,
+//! `memcpy`, `memset`), linked in place of the toolchain's exactly as in the firmware images
 //! and driven from the UART with values the host picks, so each is checked against the
 //! host's own arithmetic. Prints `builtins ready\r\n`, then answers 9-byte requests
 //! `op, a (u32 LE), b (u32 LE)`:
@@ -13,8 +13,8 @@
 #![no_main]
 #![feature(asm_experimental_arch)]
 
-#[path = "../../../master/src/builtins.rs"]
-mod builtins;
+drivers::division_routines!();
+drivers::mem_routines!();
 
 use avr_device::atmega328p::Peripherals;
 use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
