@@ -157,3 +157,36 @@ fn one_read_of_set_0_takes_little_more_than_its_wire_time() {
     // The original took 13.1 ms for this read; the goal for a whole update is 1.07 x wire.
     assert!(took < 1.10 * wire, "{took} us for {wire} us of wire time");
 }
+
+#[test]
+fn one_write_reaches_the_slave_and_is_answered_right_after_its_last_byte() {
+    let mut rig = rig();
+    rig.clear_events();
+    // Wheel 1 drive 1000, as the PC library writes it: 6 bytes in, 1 byte back.
+    let frame = [0x06, 0x12, 0x01, 0x09, 0xfe, 0x9f];
+    let start = rig.bus.micros();
+    rig.bus.uart_send(0, &frame);
+    let controller_1 = &rig.slaves[0];
+    let written = rig.bus.run_until(100_000, |b| {
+        !b.target(controller_1).unwrap().writes().is_empty()
+    });
+    assert!(written, "the write never reached controller 1");
+    let on_bus = (rig.bus.micros() - start) as f64;
+    let ok = rig.bus.run_until(100_000, |b| {
+        b.chip(0).map(|c| c.uart_available() >= 1).unwrap_or(false)
+    });
+    assert!(ok, "no reply");
+    let answered = (rig.bus.micros() - start) as f64;
+    assert_eq!(rig.bus.chip(0).unwrap().uart_take(), [0]);
+    assert_eq!(rig.model(1).writes(), vec![vec![0x09, 0xfe, 0x9f]]);
+    let frame_in = frame.len() as f64 * BYTE_US;
+    println!(
+        "one write: on the slave {on_bus:.0} us after its first byte (the frame takes \
+         {frame_in:.0} us), answered at {answered:.0} us (wire time {:.0} us)",
+        frame_in + BYTE_US
+    );
+    // The I2C write (4 bytes at 400 kHz, ~100 us) follows the frame's last byte; the
+    // reply byte follows the I2C write.
+    assert!(on_bus > frame_in && on_bus < frame_in + 250.0, "{on_bus}");
+    assert!(answered < frame_in + BYTE_US + 300.0, "{answered}");
+}

@@ -212,3 +212,56 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
     // While the link is up, PC frames are swallowed with no reply.
     assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 22).is_err());
 }
+
+/// Whether every slave has both PWM outputs at duty 0, read from the chips' timers.
+fn every_motor_stopped(s: &Session) -> bool {
+    let mut twin = s.twin.borrow_mut();
+    (1..=9usize).all(|chip| {
+        twin.bus().chip(chip).is_some_and(|avr| {
+            [harness::uno::D9, harness::uno::D10]
+                .iter()
+                .all(|&pin| avr.pwm_duty(pin).unwrap_or(0.0) == 0.0)
+        })
+    })
+}
+
+#[test]
+fn from_a_slave_fault_to_every_motor_stopped() {
+    let mut s = driving();
+    // The master watches the slaves from 5 s after its boot on (reference §5).
+    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
+    if boot_settle > 0.0 {
+        s.pass(boot_settle);
+    }
+    assert!(!every_motor_stopped(&s), "the drives are running");
+    let chip_2_stopped = |s: &Session| {
+        let mut twin = s.twin.borrow_mut();
+        let avr = twin.bus().chip(2);
+        avr.is_some_and(|a| a.pwm_duty(harness::uno::D9).unwrap_or(0.0) == 0.0)
+    };
+    // An 8 A spike on wheel 2's drive (controller 2, motor 0): SHORTOC on that board.
+    let at = s.twin.borrow().micros();
+    s.twin
+        .borrow_mut()
+        .spike(2, Axis::Drive, 8.0, 30.0)
+        .unwrap();
+    let (mut local, mut all) = (None, None);
+    while all.is_none() && s.twin.borrow().micros() - at < 2_000_000 {
+        s.twin.borrow_mut().run_us(250).unwrap();
+        let now = s.twin.borrow().micros() - at;
+        if local.is_none() && chip_2_stopped(&s) {
+            local = Some(now);
+        }
+        if every_motor_stopped(&s) {
+            all = Some(now);
+        }
+    }
+    let local = local.expect("controller 2 never stopped its drive");
+    let all = all.expect("not every motor stopped within 2 s");
+    println!(
+        "slave fault (8 A spike on wheel 2): its own drive stopped after {local} us, every \
+         motor after {all} us (the master reads each slave's status once a second)"
+    );
+    assert!(local <= 2_000, "{local} us");
+    assert!(all <= 1_100_000, "{all} us");
+}
