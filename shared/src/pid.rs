@@ -70,13 +70,16 @@ fn mul_nonzero(a: Fix, b: Fix) -> Fix {
     })
 }
 
-/// Saturating addition and subtraction, one copy each: the `fixed` crate's are inlined
-/// at every use, some 40 bytes each on the AVR.
-trait Saturating {
+/// Saturating `I16F16` operations, one out-of-line copy each: the `fixed` crate's are
+/// inlined at every use, 40 to 90 bytes each on the AVR. Every saturating operation of
+/// the slave goes through these.
+pub(crate) trait Saturating {
     /// `self + other`, saturating.
     fn add_sat(self, other: Self) -> Self;
     /// `self − other`, saturating.
     fn sub_sat(self, other: Self) -> Self;
+    /// `|self|`, saturating (|−32768| is the largest value).
+    fn abs_sat(self) -> Self;
 }
 
 impl Saturating for Fix {
@@ -89,6 +92,24 @@ impl Saturating for Fix {
     fn sub_sat(self, other: Fix) -> Fix {
         self.saturating_sub(other)
     }
+
+    #[inline(never)]
+    fn abs_sat(self) -> Fix {
+        self.saturating_abs()
+    }
+}
+
+/// |x| in bits, exact (no saturation: |−32768| is 2^31): a few inline instructions, for
+/// comparing a magnitude on the per-update path without a call.
+#[inline(always)]
+pub(crate) fn magnitude(x: Fix) -> u32 {
+    x.to_bits().unsigned_abs()
+}
+
+/// Whether |x| < `limit`, for any `limit` (never when `limit` ≤ 0).
+#[inline(always)]
+pub(crate) fn below(x: Fix, limit: Fix) -> bool {
+    limit > Fix::ZERO && magnitude(x) < limit.to_bits() as u32
 }
 
 /// The speed form bleeds its output by this factor per update while |r| < 0.001.
@@ -261,7 +282,7 @@ impl Pid {
         let mut control = self
             .control
             .add_sat(sum_terms(gains, error, integral, deriv));
-        if required.saturating_abs() < NO_DEMAND {
+        if below(required, NO_DEMAND) {
             control = mul(control, BLEED);
         }
         self.control = control;
@@ -287,7 +308,7 @@ impl Pid {
     fn terms(&mut self, gains: &Gains, error: Fix, actual: Fix) -> (Fix, Fix) {
         let integral = self.integral.add_sat(error);
         let integral = mul(integral, gains.decay)
-            .max(gains.cap.saturating_neg())
+            .max(Fix::ZERO.sub_sat(gains.cap))
             .min(gains.cap);
         self.integral = integral;
         let deriv = self.prev_actual.sub_sat(actual);
@@ -299,7 +320,7 @@ impl Pid {
 /// e = r − a, 0 when 0 < |e| < dead zone.
 fn dead_zoned(gains: &Gains, required: Fix, actual: Fix) -> Fix {
     let error = required.sub_sat(actual);
-    if error != Fix::ZERO && error.saturating_abs() < gains.dead_zone {
+    if error != Fix::ZERO && below(error, gains.dead_zone) {
         Fix::ZERO
     } else {
         error

@@ -50,17 +50,18 @@ impl Stage {
         }
     }
 
-    /// Applies a tick's outputs.
+    /// Applies a tick's outputs: both duties, then the direction pins with M1 POS (D2)
+    /// last, then the LEDs, so that once D2 shows a stop, the other pins do too.
     pub fn apply(&mut self, out: &Outputs) {
         let [m1, m2] = out.motors;
-        let (pos, neg) = m1.pins();
-        self.m1.0.set(pos);
-        self.m1.1.set(neg);
         self.pwm.set(Channel::M1, m1.duty());
+        self.pwm.set(Channel::M2, m2.duty());
         let (pos, neg) = m2.pins();
         self.m2.0.set(pos);
         self.m2.1.set(neg);
-        self.pwm.set(Channel::M2, m2.duty());
+        let (pos, neg) = m1.pins();
+        self.m1.1.set(neg);
+        self.m1.0.set(pos);
         self.show(out.leds);
         match out.watchdog {
             Dog::Feed if !self.resetting => self.watchdog.feed(),

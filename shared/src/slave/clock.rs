@@ -55,13 +55,15 @@ impl Clock {
         false
     }
 
-    /// The first call.
+    /// The first call: `now_us` from a clock at 0, as one long gap ([`Clock::skip`]).
     #[inline(never)]
     fn begin(&mut self, now_us: u32) {
-        self.started = true;
-        self.last_us = now_us;
-        let (ms, rest) = div_rem(now_us, 1000);
-        (self.ms, self.residual_us) = (ms, rest as u16);
+        *self = Clock {
+            started: true,
+            last_us: now_us,
+            ..Clock::new()
+        };
+        self.skip(now_us);
     }
 
     /// A gap of 2 ms or more (a stalled tick, or a host test's jump).

@@ -13,7 +13,7 @@
 //! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
 
 use super::divide::{div_rem, fraction};
-use crate::pid::Fix;
+use crate::pid::{Fix, Saturating};
 
 /// The original's window: the drive updates on the first tick more than this long after
 /// the previous update.
@@ -209,7 +209,7 @@ impl SpeedMeter {
         match (n, self.last_edge, self.reference) {
             (0, _, Some(reference)) if fresh(reference) => {
                 let bound = rate(1, now_us.wrapping_sub(reference));
-                self.speed.saturating_abs().min(bound)
+                self.speed.abs_sat().min(bound)
             }
             (0, _, _) => Fix::ZERO,
             // From the edge before these to the last of them: n whole periods. After a

@@ -23,7 +23,7 @@
 //! overcurrent rule's ([`super::current::overcurrent`]).
 
 use super::state::LocalFault;
-use crate::pid::Fix;
+use crate::pid::{below, Fix};
 
 /// STALLCHECK's power-on level (the register reads 0x77).
 pub const STALL_CHECK_POWER_ON: u8 = 120;
@@ -103,9 +103,9 @@ impl FaultDetector {
             return None;
         };
         let moved = match motion {
-            Motion::Speed(speed) => speed.saturating_abs() >= MOTION_SPEED,
+            Motion::Speed(speed) => !below(speed, MOTION_SPEED),
             Motion::Angle(angle) => {
-                angle.saturating_sub(self.anchor).saturating_abs() >= MOTION_ANGLE
+                angle.to_bits().abs_diff(self.anchor.to_bits()) >= MOTION_ANGLE.to_bits() as u32
             }
         };
         if moved {

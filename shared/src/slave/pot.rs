@@ -1,7 +1,7 @@
 //! Potentiometer readings to angles (reference §7.3).
 
 use super::product::wide;
-use crate::pid::Fix;
+use crate::pid::{Fix, Saturating};
 
 /// The highest reading of the 10-bit ADC.
 pub const ADC_MAX: u16 = 1023;
@@ -24,7 +24,7 @@ impl Calibration {
     pub fn new(min: Fix, max: Fix) -> Calibration {
         Calibration {
             min,
-            span: max.saturating_sub(min),
+            span: max.sub_sat(min),
         }
     }
 
@@ -35,7 +35,7 @@ impl Calibration {
 
     /// The angle at reading 1024 (CALIBMAX).
     pub fn max(&self) -> Fix {
-        self.min.saturating_add(self.span)
+        self.min.add_sat(self.span)
     }
 
     /// Replaces CALIBMIN, keeping CALIBMAX.
@@ -60,6 +60,7 @@ impl Calibration {
         let (high, low) = ((magnitude >> 16) as u16, magnitude as u16);
         let product = ((wide(high, p) << 16) + wide(low, p)) as i32;
         let product = if span < 0 { -product } else { product };
+        // Inline: this runs at every new reading of a moving motor.
         Fix::from_bits(product >> 4).saturating_add(self.min)
     }
 }
