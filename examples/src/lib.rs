@@ -3,6 +3,31 @@
 //! UBRR0 is written) and decimal printing. Each `src/bin` firmware shows one concept.
 #![no_std]
 
+/// The chip's peripherals, at the start of a fixture's `main`. `take` fails only on a
+/// second call, which no fixture makes; it would spin here rather than panic.
+pub fn peripherals() -> avr_device::atmega328p::Peripherals {
+    match avr_device::atmega328p::Peripherals::take() {
+        Some(p) => p,
+        None => loop {
+            avr_device::asm::nop();
+        },
+    }
+}
+
+/// Defines a fixture's panic handler: spin. The tests watch a fixture's UART and pins;
+/// a fixture that panics stops answering, which they report.
+#[macro_export]
+macro_rules! spin_on_panic {
+    () => {
+        #[panic_handler]
+        fn panic(_: &core::panic::PanicInfo) -> ! {
+            loop {
+                avr_device::asm::nop();
+            }
+        }
+    };
+}
+
 /// Polled UART0 output for the fixtures' reports.
 pub mod uart {
     use avr_device::atmega328p::USART0;

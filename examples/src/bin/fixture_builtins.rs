@@ -16,7 +16,6 @@
 drivers::division_routines!();
 drivers::mem_routines!();
 
-use avr_device::atmega328p::Peripherals;
 use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
 
 /// Bytes of the copy and fill buffer.
@@ -24,11 +23,7 @@ const BUF: usize = 40;
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     put_str(&uart, b"builtins ready\r\n");
@@ -72,9 +67,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

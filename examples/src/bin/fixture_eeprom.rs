@@ -3,17 +3,12 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
 use firmware_examples::eeprom::{ee_read, ee_write};
 use firmware_examples::uart::{put_dec, put_str, uart_init};
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     let b0 = ee_read(&dp.EEPROM, 0);
@@ -27,9 +22,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

@@ -3,16 +3,11 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
 use firmware_examples::uart::{put_str, uart_init};
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     put_str(&uart, b"halt\r\n");
@@ -26,9 +21,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

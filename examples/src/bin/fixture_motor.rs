@@ -181,11 +181,7 @@ fn setup_timers(dp: &Peripherals, portb: &PORTB) {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     uart_init(&dp.USART0);
     // Direction pins D2, D3, D4, D7 are outputs, low; PD0/PD1 inputs without pull-ups.
     // SAFETY: any DDRD/PORTD value is valid.
@@ -256,9 +252,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

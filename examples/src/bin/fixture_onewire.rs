@@ -17,7 +17,7 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, PORTD, USART0};
+use avr_device::atmega328p::{PORTD, USART0};
 use firmware_examples::uart::{put, put_dec, put_str};
 
 /// PD6's bit in the port registers.
@@ -200,11 +200,7 @@ fn put_celsius(uart: &USART0, half: i16) {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     // PD6 released, with PORTD6 = 0 so that making it an output pulls it low.
@@ -273,9 +269,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

@@ -4,15 +4,9 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
-
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     // D13 = PB5 and D9 = PB1 are outputs; D2 = PD2 stays an input, no pull-up.
     // SAFETY: any DDRB value is valid.
     dp.PORTB
@@ -38,9 +32,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

@@ -68,11 +68,7 @@ fn PCINT2() {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     // UCSR0A and UCSR0C first: the emulator applies the baud rate when UBRR0 is written.
     uart.ucsr0a().write(|w| w.u2x0().set_bit());
@@ -116,9 +112,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

@@ -9,18 +9,13 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
 use shared::slave::{divide::div_rem, product::wide};
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     put_str(&uart, b"maths ready\r\n");
@@ -38,9 +33,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

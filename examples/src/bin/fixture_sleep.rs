@@ -8,7 +8,6 @@
 use core::cell::Cell;
 use firmware_examples::uart::{put_dec, put_str, uart_init};
 
-use avr_device::atmega328p::Peripherals;
 use avr_device::interrupt::Mutex;
 
 /// Timer ticks since boot, shared with the compare-match interrupt. Unmangled so
@@ -26,11 +25,7 @@ fn TIMER1_COMPA() {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart_init(&uart);
     put_str(&uart, b"sleep ready\r\n");
@@ -57,9 +52,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

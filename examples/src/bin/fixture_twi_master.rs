@@ -14,7 +14,7 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, TWI, USART0};
+use avr_device::atmega328p::{TWI, USART0};
 
 /// UBRR0 for 115200 baud at 16 MHz with U2X0 set.
 const UBRR_115200: u16 = 16;
@@ -265,10 +265,7 @@ fn answer(serial: &Serial, result: Result<&[u8], Fail>) {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        #[allow(clippy::empty_loop)]
-        loop {}
-    };
+    let dp = firmware_examples::peripherals();
     let serial = Serial::new(dp.USART0);
     let master = Master::new(dp.TWI);
     serial.print(b"twi master\n");
@@ -303,8 +300,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
+firmware_examples::spin_on_panic!();

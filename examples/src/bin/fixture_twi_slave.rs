@@ -17,7 +17,7 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::{Peripherals, EEPROM, TWI};
+use avr_device::atmega328p::{EEPROM, TWI};
 
 /// Address used when EEPROM byte 0 is not a usable 7-bit address.
 const DEFAULT_ADDR: u8 = 0x08;
@@ -120,10 +120,7 @@ fn release(twi: &TWI) {
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        #[allow(clippy::empty_loop)]
-        loop {}
-    };
+    let dp = firmware_examples::peripherals();
     let twi = dp.TWI;
     let stored = eeprom_byte0(&dp.EEPROM);
     let addr = if (1..0x78).contains(&stored) {
@@ -167,8 +164,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
+firmware_examples::spin_on_panic!();

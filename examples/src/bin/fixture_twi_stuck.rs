@@ -36,8 +36,4 @@ fn main() -> ! {
     loop {}
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    #[allow(clippy::empty_loop)]
-    loop {}
-}
+firmware_examples::spin_on_panic!();

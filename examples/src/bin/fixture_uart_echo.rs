@@ -3,18 +3,13 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
 use firmware_examples::uart::put;
 
 /// Sends one byte, waiting for the transmit buffer to be free.
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let uart = dp.USART0;
     uart.ucsr0a().write(|w| w.u2x0().set_bit());
     uart.ucsr0c().write(|w| w.ucsz0().chr8());
@@ -32,9 +27,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();

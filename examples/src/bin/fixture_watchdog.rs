@@ -4,17 +4,12 @@
 #![no_std]
 #![no_main]
 
-use avr_device::atmega328p::Peripherals;
 use firmware_examples::eeprom::{ee_read, ee_write};
 use firmware_examples::uart::{put, put_dec, put_str, uart_init};
 
 #[avr_device::entry]
 fn main() -> ! {
-    let Some(dp) = Peripherals::take() else {
-        loop {
-            avr_device::asm::nop();
-        }
-    };
+    let dp = firmware_examples::peripherals();
     let mcusr = dp.CPU.mcusr().read().bits();
     // After a watchdog reset the watchdog stays on: clear WDRF, then turn it off
     // with the timed WDCE sequence.
@@ -43,9 +38,4 @@ fn main() -> ! {
     }
 }
 
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        avr_device::asm::nop();
-    }
-}
+firmware_examples::spin_on_panic!();
