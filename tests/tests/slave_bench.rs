@@ -129,14 +129,21 @@ fn run_stats(runs: &[u64]) -> (usize, u64, u64) {
     (runs.len(), mean, max)
 }
 
-#[test]
-fn drive_steer_costs() {
+/// Controller 1 (drive/steer) past its boot display, exceptions reset, with calibrate()'s
+/// drive and steer gains of wheel 1.
+fn calibrated_drive_steer() -> Rig {
     let mut r = rig(1);
     r.run_us(650_000);
     r.reset_exceptions();
     for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
         r.write_raw(reg, raw);
     }
+    r
+}
+
+#[test]
+fn drive_steer_costs() {
+    let mut r = calibrated_drive_steer();
     r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
     r.write_value(id::REGDS_STEER_REQPOS, 20.0);
     r.run_us(1_000_000);
@@ -189,12 +196,7 @@ fn twi_runs(r: &mut Rig, tracker: &Rc<RefCell<Tracker>>, op: impl FnOnce(&mut Ri
 
 #[test]
 fn twi_byte_task_costs() {
-    let mut r = rig(1);
-    r.run_us(650_000);
-    r.reset_exceptions();
-    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
-        r.write_raw(reg, raw);
-    }
+    let mut r = calibrated_drive_steer();
     r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
     r.run_us(500_000);
     let tracker = Rc::new(RefCell::new(Tracker::default()));
@@ -371,12 +373,7 @@ fn highest_lossless(r: &mut Rig, rates: &[u32], master: Option<usize>) -> u32 {
 
 #[test]
 fn highest_encoder_rate_without_a_lost_edge() {
-    let mut r = rig(1);
-    r.run_us(650_000);
-    r.reset_exceptions();
-    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
-        r.write_raw(reg, raw);
-    }
+    let mut r = calibrated_drive_steer();
     r.write_value(id::REGDS_STEER_REQPOS, 20.0);
     r.write_raw(id::REGDS_DRIVE_MODE, 1);
     r.run_us(100_000);
@@ -431,12 +428,7 @@ fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64))
 
 #[test]
 fn drive_steer_costs_while_steering() {
-    let mut r = rig(1);
-    r.run_us(650_000);
-    r.reset_exceptions();
-    for &(reg, raw) in DRIVE_GAINS.iter().chain(STEER_GAINS_WHEEL_1) {
-        r.write_raw(reg, raw);
-    }
+    let mut r = calibrated_drive_steer();
     r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
     r.run_us(1_000_000);
     let steer = |r: &Rig| {
