@@ -41,6 +41,13 @@ pub mod uart {
         uart.ubrr0().write(|w| w.set(16));
     }
 
+    /// Configures UART0 as [`uart_init`] does and sends the fixture's `ready` line.
+    pub fn start(uart: USART0, ready: &[u8]) -> USART0 {
+        uart_init(&uart);
+        put_str(&uart, ready);
+        uart
+    }
+
     /// Sends one byte, waiting for the data register.
     pub fn put(uart: &USART0, byte: u8) {
         while uart.ucsr0a().read().udre0().bit_is_clear() {}

@@ -16,7 +16,7 @@
 drivers::division_routines!();
 drivers::mem_routines!();
 
-use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
+use firmware_examples::uart::{get_request, put_pair, put_str};
 
 /// Bytes of the copy and fill buffer.
 const BUF: usize = 40;
@@ -24,9 +24,7 @@ const BUF: usize = 40;
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
-    let uart = dp.USART0;
-    uart_init(&uart);
-    put_str(&uart, b"builtins ready\r\n");
+    let uart = firmware_examples::uart::start(dp.USART0, b"builtins ready\r\n");
     loop {
         let req: [u8; 9] = get_request(&uart);
         let op = req[0];

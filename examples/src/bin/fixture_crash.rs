@@ -3,14 +3,10 @@
 #![no_std]
 #![no_main]
 
-use firmware_examples::uart::{put_str, uart_init};
-
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
-    let uart = dp.USART0;
-    uart_init(&uart);
-    put_str(&uart, b"crash\r\n");
+    let uart = firmware_examples::uart::start(dp.USART0, b"crash\r\n");
     while uart.ucsr0a().read().txc0().bit_is_clear() {}
     // Word address 0x4000 is byte address 0x8000, one past the 32 KiB flash.
     // SAFETY: deliberately unsound: this image exists only to crash the emulated

@@ -3,14 +3,10 @@
 #![no_std]
 #![no_main]
 
-use firmware_examples::uart::{put_str, uart_init};
-
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
-    let uart = dp.USART0;
-    uart_init(&uart);
-    put_str(&uart, b"halt\r\n");
+    let uart = firmware_examples::uart::start(dp.USART0, b"halt\r\n");
     // Let the last byte leave before stopping.
     while uart.ucsr0a().read().txc0().bit_is_clear() {}
     avr_device::interrupt::disable();

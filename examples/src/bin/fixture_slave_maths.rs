@@ -10,15 +10,13 @@
 #![no_main]
 
 use core::hint::black_box;
-use firmware_examples::uart::{get_request, put_pair, put_str, uart_init};
+use firmware_examples::uart::{get_request, put_pair};
 use shared::slave::{divide::div_rem, product::wide};
 
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
-    let uart = dp.USART0;
-    uart_init(&uart);
-    put_str(&uart, b"maths ready\r\n");
+    let uart = firmware_examples::uart::start(dp.USART0, b"maths ready\r\n");
     loop {
         let req: [u8; 9] = get_request(&uart);
         let a = u32::from_le_bytes([req[1], req[2], req[3], req[4]]);

@@ -6,7 +6,7 @@
 #![feature(abi_avr_interrupt)]
 
 use core::cell::Cell;
-use firmware_examples::uart::{put_dec, put_str, uart_init};
+use firmware_examples::uart::{put_dec, put_str};
 
 use avr_device::interrupt::Mutex;
 
@@ -26,9 +26,7 @@ fn TIMER1_COMPA() {
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
-    let uart = dp.USART0;
-    uart_init(&uart);
-    put_str(&uart, b"sleep ready\r\n");
+    let uart = firmware_examples::uart::start(dp.USART0, b"sleep ready\r\n");
     // CTC (WGM12), clock/64: 250 kHz, OCR1A = 2499 gives 10 ms.
     // SAFETY: documented OCR1A/TCCR1B/TIMSK1 values.
     dp.TC1.ocr1a().write(|w| unsafe { w.bits(2499) });
