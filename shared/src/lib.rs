@@ -12,7 +12,9 @@
 
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(target_arch = "avr", feature(asm_experimental_arch))]
-// Denied everywhere but in `progmem`, whose flash reads need it (see there).
+// Denied everywhere but in three AVR-only modules, each explaining why: `progmem` (flash
+// reads), `slave::product` and `slave::divide` (arithmetic in assembly). Their host builds
+// are plain Rust.
 #![deny(unsafe_code)]
 
 pub mod exception;
