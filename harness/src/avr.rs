@@ -65,6 +65,8 @@ pub(crate) struct Shared {
     pub traces: RefCell<PinTraces>,
     /// Which traced pin each hooked pin IRQ (by address) belongs to.
     pub trace_irqs: RefCell<HashMap<usize, (u8, u8)>>,
+    /// The raw cycle the sleep deadline timer is queued for, if it is.
+    pub deadline: Cell<Option<u64>>,
 }
 
 /// Recorded (cycle, level) changes per (port letter, bit).
@@ -92,8 +94,6 @@ pub struct Avr {
     last_raw_cycle: u64,
     watchdog_resets: u32,
     state: CpuState,
-    /// The sleep deadline: its next firing (absolute cycles) and its period.
-    deadline_at: Option<(u64, u64)>,
     /// The ADC's input IRQs (ADC0..ADC7 in a row), looked up once.
     pub(crate) adc_inputs: Option<NonNull<ffi::avr_irq_t>>,
     /// Called after every instruction of [`Avr::run_cycles`] while set (see
@@ -112,14 +112,24 @@ unsafe extern "C" fn no_real_sleep(_avr: *mut ffi::avr_t, _how_long: ffi::avr_cy
 
 /// A timer that does nothing; it only bounds how far a sleeping CPU jumps.
 unsafe extern "C" fn deadline(
-    _avr: *mut ffi::avr_t,
-    when: ffi::avr_cycle_count_t,
+    avr: *mut ffi::avr_t,
+    _when: ffi::avr_cycle_count_t,
     param: *mut c_void,
 ) -> ffi::avr_cycle_count_t {
-    // `param` carries the period in cycles (not a pointer): the deadline re-arms itself
-    // one period on, which is where the next run of a lock-stepped bus ends, so the
-    // harness does not cancel and register a timer for every quantum.
-    when + param as ffi::avr_cycle_count_t
+    // SAFETY: `param` is the owning `Avr`'s boxed `Shared`, which outlives the core's
+    // timers; `avr` is the live core running this callback.
+    let (shared, avr) = unsafe { (&*param.cast::<Shared>(), &*avr) };
+    // simavr runs the timers that are due and then, in the same step, lets a sleeping
+    // CPU jump to the next timer. Firing while the CPU sleeps, the deadline therefore
+    // re-arms itself one cycle on, so the jump ends right after it and the run stops
+    // there; the next run replaces it. Otherwise it is done.
+    let next = if avr.state == ffi::cpu_Sleeping as i32 {
+        avr.cycle + 1
+    } else {
+        0
+    };
+    shared.deadline.set((next != 0).then_some(next));
+    next
 }
 
 impl Avr {
@@ -210,6 +220,7 @@ impl Avr {
             uart_in,
             traces: RefCell::new(HashMap::new()),
             trace_irqs: RefCell::new(HashMap::new()),
+            deadline: Cell::new(None),
         });
         let mut avr = Avr {
             raw,
@@ -218,7 +229,6 @@ impl Avr {
             last_raw_cycle: 0,
             watchdog_resets: 0,
             state: CpuState::Running,
-            deadline_at: None,
             adc_inputs: None,
             observer: None,
             _fidelity: Vec::new(),
@@ -258,14 +268,12 @@ impl Avr {
     /// Runs one emulator step (one instruction, or one sleep jump to the next timer).
     pub fn step(&mut self) -> CpuState {
         let p = self.raw.as_ptr();
-        if let Some((_, period)) = self.deadline_at.take() {
+        if self.shared.deadline.take().is_some() {
             // A single step has no deadline: a sleeping CPU jumps to its next event,
-            // not to the end of an earlier run's period.
+            // not to the end of an earlier run.
             // SAFETY: timers are owned by the live core; cancelling matches the
             // callback and param registered by `arm_deadline`.
-            unsafe {
-                ffi::avr_cycle_timer_cancel(p, Some(deadline), period as usize as *mut c_void)
-            };
+            unsafe { ffi::avr_cycle_timer_cancel(p, Some(deadline), self.shared_param()) };
         }
         self.step_raw()
     }
@@ -303,7 +311,8 @@ impl Avr {
         shared.base.set(shared.base.get() + elapsed);
         shared.rx_armed.set(false);
         self.last_raw_cycle = 0;
-        self.deadline_at = None;
+        // simavr dropped every cycle timer.
+        self.shared.deadline.set(None);
         self.arm_rx_pump();
     }
 
@@ -428,36 +437,22 @@ impl Avr {
 
     /// Makes sure a sleeping CPU does not jump past the absolute cycle `target`.
     fn arm_deadline(&mut self, now: u64, target: u64) {
-        if let Some((at, period)) = self.deadline_at {
-            // The deadline re-arms itself every `period` cycles; simavr runs it as soon
-            // as the cycle counter reaches it, so it has fired at every step up to `now`.
-            let next = if at > now {
-                at
-            } else {
-                at + ((now - at) / period + 1) * period
-            };
-            self.deadline_at = Some((next, period));
-            if next == target {
-                return;
-            }
+        let raw_target = target - self.shared.base.get();
+        if self.shared.deadline.get() == Some(raw_target) {
+            return;
         }
         let p = self.raw.as_ptr();
-        let period = target - now;
-        // SAFETY: timers are owned by the live core; `deadline` reads its param as a
-        // number, never as a pointer, and cancelling a timer that is not queued is a
-        // no-op (cancel matches the callback and param of the one registered before).
+        // SAFETY: timers are owned by the live core; registering cancels the one this
+        // callback and param had queued; `deadline` reads its param as the boxed `Shared`.
         unsafe {
-            if let Some((_, old)) = self.deadline_at {
-                ffi::avr_cycle_timer_cancel(p, Some(deadline), old as usize as *mut c_void);
-            }
-            ffi::avr_cycle_timer_register(
-                p,
-                period,
-                Some(deadline),
-                period as usize as *mut c_void,
-            );
+            ffi::avr_cycle_timer_register(p, target - now, Some(deadline), self.shared_param());
         }
-        self.deadline_at = Some((target, period));
+        self.shared.deadline.set(Some(raw_target));
+    }
+
+    /// The boxed `Shared` as a hook parameter.
+    fn shared_param(&self) -> *mut c_void {
+        std::ptr::from_ref::<Shared>(&self.shared).cast_mut().cast()
     }
 
     /// Fails with [`HarnessError::Halted`] if the CPU has halted.

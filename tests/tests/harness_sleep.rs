@@ -67,3 +67,25 @@ fn symbol_locates_a_static_in_ram() {
     assert_eq!(ticks, 100);
     assert_eq!(avr.symbol("no_such_symbol"), None);
 }
+
+#[test]
+fn runs_end_within_an_instruction_of_their_target_asleep_or_awake() {
+    // Runs of 1..300 cycles, as a lock-stepped bus makes them: a CPU that goes to sleep
+    // right at the end of a run must not jump past it to its next timer.
+    for name in ["fixture_sleep", "slave-drive"] {
+        let mut avr = Avr::firmware(name).unwrap();
+        avr.eeprom_write(0, &[1]);
+        let (mut worst, mut x) = (0, 12_345u32);
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let n = u64::from(x % 300) + 1;
+            let target = avr.cycles() + n;
+            avr.run_cycles(n);
+            worst = worst.max(avr.cycles() - target);
+        }
+        // The longest instruction takes 5 cycles (an interrupt's entry 4).
+        assert!(worst <= 5, "{name}: a run ended {worst} cycles late");
+    }
+}

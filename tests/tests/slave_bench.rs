@@ -333,9 +333,10 @@ fn edges_counted(r: &mut Rig, rate: u32, k: u16, master: Option<usize>) -> (u16,
         r.bus.chip(m).map(|mut a| a.uart_take());
     }
     let (commands, late) = feed_quadrature(r, 256 * u32::from(k), rate, master);
-    // A sleeping chip may overrun the end of a bus run: then one change lands late (140
-    // cycles seen, once in 40 ms), far less than a quarter period at the rates that
-    // matter here.
+    // Bus runs end on the changes' cycles within an instruction (`harness_sleep`), but an
+    // I2C transfer the bus delivers runs the chip ahead until it answers (up to 126 cycles
+    // seen with the second master's reads), far less than a quarter period at the rates
+    // that matter here.
     assert!(late <= 200, "an encoder change landed {late} cycles late");
     r.bus.run_us(6_000);
     let mut served = true;
