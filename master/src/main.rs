@@ -164,7 +164,7 @@ fn idle(mut cx: idle::Context) -> ! {
     banner::starting(&mut Replies::new(&mut cx.shared.tx));
     // Boot work, under the 1-s watchdog: the sensors, then the slaves' hard resets
     // (REG_RESET = 2), after which each reboots into its boot exception with defaults.
-    l.temps.discover(l.wire, l.watchdog);
+    l.temps.discover(l.wire, l.watchdog, &mut l.service.local);
     while !l.schedule.booted() {
         let now = link::now_ms(&mut cx.shared.clock);
         let mut traffic = Traffic {

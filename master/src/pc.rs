@@ -51,30 +51,22 @@ impl PcLink {
         tx: &mut impl Lock<TxQueue>,
         clock: &mut impl Lock<Clock>,
         swallow: bool,
-        s: Serve<'_>,
+        mut s: Serve<'_>,
     ) -> bool {
         let mut took = false;
         while let Some(event) = rx.lock(|q| q.pop_front()) {
             took = true;
             let now = now_ms(clock);
-            let RxEvent::Byte(b) = event else {
-                self.parser.abort();
-                self.timeout.byte(now, false);
-                if let Some(e) = event.error() {
-                    s.service.link_error(e);
+            match event {
+                RxEvent::Byte(b) => {
+                    if self.parser.push_byte(b) && !swallow {
+                        self.serve(tx, clock, &mut s);
+                    }
                 }
-                continue;
-            };
-            if let Some(frame) = self.parser.push_frame(b) {
-                if !swallow {
-                    let mut bus = Watched::new(s.relay, s.watchdog);
-                    let mut out = Replies::new(tx);
-                    s.service
-                        .execute(&mut self.sets, frame, &mut bus, &mut |r| out.send(r));
-                    if let Some((device, answered)) = bus.outcome() {
-                        let now = now_ms(clock);
-                        let latch = &mut s.service.local.exception;
-                        s.schedule.observe(device, answered, now, latch);
+                _ => {
+                    self.parser.abort();
+                    if let Some(e) = event.error() {
+                        s.service.link_error(e);
                     }
                 }
             }
@@ -87,5 +79,30 @@ impl PcLink {
                 .link_error(LinkError::Frame(FrameError::Truncated));
         }
         took
+    }
+
+    /// Executes and answers the frame the parser has just completed, and reports the
+    /// slave it addressed to the schedule. Out of line: the byte loop keeps only what
+    /// it needs live.
+    #[inline(never)]
+    fn serve(
+        &mut self,
+        tx: &mut impl Lock<TxQueue>,
+        clock: &mut impl Lock<Clock>,
+        s: &mut Serve<'_>,
+    ) {
+        let mut bus = Watched::new(s.relay, s.watchdog);
+        let mut out = Replies::new(tx);
+        s.service.execute(
+            &mut self.sets,
+            self.parser.completed(),
+            &mut bus,
+            &mut |r| out.send(r),
+        );
+        if let Some((device, answered)) = bus.outcome() {
+            let now = now_ms(clock);
+            let latch = &mut s.service.local.exception;
+            s.schedule.observe(device, answered, now, latch);
+        }
     }
 }

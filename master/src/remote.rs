@@ -17,7 +17,7 @@
 use drivers::rc_pins::RcPins;
 use drivers::timer1::{EdgeClock, FreeRunning};
 use shared::master::rc::setup::DS_CONTROLLERS_FLASH;
-use shared::master::rc::{angle_raw, LinkUpWrites, Pass, PulseTimer, Remote};
+use shared::master::rc::{angle_raw, speed_raw_of, LinkUpWrites, Pass, PulseTimer, Remote};
 use shared::master::{RegWrite, Ring};
 use shared::regs::id;
 
@@ -81,12 +81,10 @@ impl RemoteControl {
     #[inline(never)]
     pub fn edge(&mut self, (count, levels): Edge, now_ms: u32) {
         let now_us = self.clock.stamp(count);
-        let widths = self.pulses.change(levels, now_us);
-        for (channel, width) in widths.iter().enumerate() {
-            if let Some(w) = *width {
-                self.remote.pulse(channel, w);
-            }
-        }
+        let remote = &mut self.remote;
+        self.pulses.change_each(levels, now_us, |channel, width| {
+            remote.pulse(channel, width)
+        });
         self.remote.edge(now_ms);
     }
 
@@ -102,7 +100,8 @@ impl RemoteControl {
     /// Returns whether anything was sent.
     #[inline(never)]
     pub fn next(&mut self, now_ms: u32, mut send: impl FnMut(RegWrite)) -> bool {
-        if self.remote.first_link_up(now_ms) {
+        let (up, first) = self.remote.link_state(now_ms);
+        if first {
             self.setup = Some(LinkUpWrites::new());
         }
         if let Some(setup) = self.setup.as_mut() {
@@ -115,7 +114,7 @@ impl RemoteControl {
             }
         }
         let now = now_ms as u16;
-        if !self.remote.link_up(now_ms) || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
+        if !up || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
             return false;
         }
         self.last_pass_ms = now;
@@ -127,14 +126,21 @@ impl RemoteControl {
 /// The writes of `pass`, in the order of `Pass::writes`: for wheels 1..6, REQSPEED then
 /// STEER_REQPOS on the wheel's drive/steer board.
 fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
-    let speed = pass.speed_raw();
-    // Wheel i + 1's board and angle (as `Pass::steer_raw(i + 1)`).
-    for (device, &angle) in DS_CONTROLLERS_FLASH.as_slice().iter().zip(&pass.angles) {
-        send(RegWrite::word(device, id::REGDS_DRIVE_REQSPEED, speed));
-        send(RegWrite::word(
-            device,
-            id::REGDS_STEER_REQPOS,
-            angle_raw(angle),
-        ));
+    let speed = speed_raw_of(pass.drive);
+    // One call site for all twelve writes, so `send` is inlined once: write i is wheel
+    // i / 2's (as `Pass::steer_raw(i / 2 + 1)`), REQSPEED for even i.
+    for i in 0..2 * pass.angles.len() {
+        let wheel = i / 2;
+        let (Some(device), Some(&angle)) =
+            (DS_CONTROLLERS_FLASH.get(wheel), pass.angles.get(wheel))
+        else {
+            return;
+        };
+        let (id, raw) = if i % 2 == 0 {
+            (id::REGDS_DRIVE_REQSPEED, speed)
+        } else {
+            (id::REGDS_STEER_REQPOS, angle_raw(angle))
+        };
+        send(RegWrite::word(device, id, raw));
     }
 }

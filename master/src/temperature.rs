@@ -9,9 +9,7 @@
 use drivers::onewire::OneWire;
 use drivers::watchdog::Watchdog;
 use shared::exception::MasterException;
-use shared::master::temperature::{
-    command, reading, Poller, Rom, RomSearch, Sensors, SCRATCHPAD_LEN,
-};
+use shared::master::temperature::{command, reading, Poller, RomSearch, Sensors, SCRATCHPAD_LEN};
 use shared::master::LocalRegisters;
 
 /// Steps of a read: reset, MATCH ROM, 8 ROM bytes, READ SCRATCHPAD, 9 scratchpad bytes.
@@ -66,10 +64,16 @@ impl Temperatures {
     }
 
     /// Boot: finds the devices on the bus (SEARCH ROM, up to ten), then starts a
-    /// conversion on sensor 0 so that the first tick reads a measurement. The watchdog
-    /// is fed once per search pass (~14 ms).
+    /// conversion on sensor 0 so that the first tick reads a measurement (by the tick's
+    /// own steps, as the second half of a tick that reads nothing: `local` is left as it
+    /// is). The watchdog is fed once per search pass (~14 ms).
     #[inline(never)]
-    pub fn discover(&mut self, wire: &mut OneWire, watchdog: &Watchdog) {
+    pub fn discover(
+        &mut self,
+        wire: &mut OneWire,
+        watchdog: &Watchdog,
+        local: &mut LocalRegisters,
+    ) {
         let mut search = RomSearch::new();
         while !search.finished() {
             watchdog.feed();
@@ -77,9 +81,16 @@ impl Temperatures {
                 break;
             }
         }
-        if let Some(rom) = self.poller.first_conversion(&self.sensors) {
-            address(wire, &rom);
-            start_conversion(wire);
+        // The sensor the first tick reads: none found, and the steps do nothing.
+        self.job = Job {
+            active: true,
+            read: None,
+            convert: Some(self.poller.next()),
+            step: READ_STEPS,
+            pad: [0; SCRATCHPAD_LEN],
+        };
+        while self.busy() {
+            self.step(wire, local);
         }
     }
 
@@ -173,13 +184,6 @@ impl Temperatures {
             }
         }
     }
-}
-
-/// Reset and MATCH ROM `rom`, in one go (boot only).
-fn address(wire: &mut OneWire, rom: &Rom) {
-    wire.reset();
-    wire.write_byte(command::MATCH_ROM);
-    rom.iter().for_each(|&b| wire.write_byte(b));
 }
 
 /// CONVERT T on the addressed sensor, then the line held high to power it (parasite

@@ -186,6 +186,35 @@ pub struct Writes<'a> {
     bytes: &'a [u8],
     /// The addressed device's table, looked up once per frame.
     sizes: Sizes,
+    /// Whether some entry names a read-only register (found while validating, so the
+    /// frame logic needs no pass of its own to check).
+    read_only: bool,
+}
+
+impl Writes<'_> {
+    /// Whether some entry names a read-only register.
+    pub fn any_read_only(&self) -> bool {
+        self.read_only
+    }
+
+    /// The next write and its size in bytes (1 or 2), as the table gave it.
+    pub fn next_sized(&mut self) -> Option<(Write, u8)> {
+        if self.remaining == 0 {
+            return None;
+        }
+        let [id, rest @ ..] = self.bytes else {
+            return None;
+        };
+        let size = self.sizes.size_of(*id)?;
+        let (raw, tail) = match (size, rest) {
+            (1, [lo, tail @ ..]) => (u16::from(*lo), tail),
+            (2, [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
+            _ => return None,
+        };
+        self.remaining -= 1;
+        self.bytes = tail;
+        Some((Write { id: *id, raw }, size))
+    }
 }
 
 impl core::fmt::Debug for Writes<'_> {
@@ -198,20 +227,7 @@ impl Iterator for Writes<'_> {
     type Item = Write;
 
     fn next(&mut self) -> Option<Write> {
-        if self.remaining == 0 {
-            return None;
-        }
-        let [id, rest @ ..] = self.bytes else {
-            return None;
-        };
-        let (raw, tail) = match (self.sizes.size_of(*id), rest) {
-            (Some(1), [lo, tail @ ..]) => (u16::from(*lo), tail),
-            (Some(2), [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
-            _ => return None,
-        };
-        self.remaining -= 1;
-        self.bytes = tail;
-        Some(Write { id: *id, raw })
+        self.next_sized().map(|(w, _)| w)
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {

@@ -89,6 +89,18 @@ fn map_scaled(value: i32, scale: i32, limit: i32) -> u16 {
     (x * 32767 / span as u32) as u16
 }
 
+/// REQSPEED's raw value for a pass whose drive is `drive` (thousandths, within ±1000 as
+/// [`normalise`] gives it): [`Pass::speed_raw`] of the speed 13·`drive` tenths, in 16-bit
+/// steps so the firmware needs no 32-bit clamp.
+pub fn speed_raw_of(drive: i16) -> u16 {
+    const SPAN: u16 = 40_000;
+    // ±1000·13 = ±13 000 plus 40 000 is 27 000..=53 000, which fits a u16; x·32767 fits a
+    // u32.
+    let tenths = drive.clamp(-1000, 1000) * (MAX_SPEED / 100) as i16;
+    let x = (tenths as u16).wrapping_add(SPAN);
+    (u32::from(x) * 32767 / u32::from(SPAN)) as u16
+}
+
 /// Raw REGDS_STEER_REQPOS (±200° over 0..65534) of an angle in cdeg: [`map_scaled`]
 /// with the clamp in 16 bits, as the firmware maps one per wheel and pass.
 pub fn angle_raw(cdeg: i16) -> u16 {
@@ -159,6 +171,15 @@ impl Remote {
         true
     }
 
+    /// [`Remote::link_up`] and [`Remote::first_link_up`] from one look at the link, as
+    /// the firmware's pass needs both: (up, first time up).
+    pub fn link_state(&mut self, now_ms: u32) -> (bool, bool) {
+        let up = self.link_up(now_ms);
+        let first = up && !self.linked_before;
+        self.linked_before |= up;
+        (up, first)
+    }
+
     /// Whether a complete PC frame is swallowed with no reply (the link is up).
     pub fn swallows_frames(&mut self, now_ms: u32) -> bool {
         self.link_up(now_ms)
@@ -208,6 +229,55 @@ impl Remote {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn link_state_is_link_up_and_first_link_up_in_one() {
+        let (mut one, mut two) = (Remote::new(), Remote::new());
+        let mut seen = [(false, false); 6];
+        let steps = [
+            (None, 5),
+            (Some(10), 20),
+            (None, 500),
+            (None, 1500),
+            (Some(2000), 2100),
+            (None, 3500),
+        ];
+        for (state, (edge, now)) in seen.iter_mut().zip(steps) {
+            if let Some(t) = edge {
+                one.edge(t);
+                two.edge(t);
+            }
+            *state = one.link_state(now);
+            let first = two.first_link_up(now);
+            assert_eq!(*state, (two.link_up(now), first), "{now}");
+        }
+        let up_first = [(false, false), (true, true), (true, false)];
+        let down = (false, false);
+        assert_eq!(
+            seen,
+            [
+                up_first[0],
+                up_first[1],
+                up_first[2],
+                down,
+                up_first[2],
+                down
+            ]
+        );
+    }
+
+    #[test]
+    fn every_drive_maps_as_the_passs_speed() {
+        for drive in -1000..=1000i16 {
+            let tenths = MAX_SPEED / 100 * i32::from(drive);
+            assert_eq!(speed_raw_of(drive), map_scaled(tenths, 10, 4000), "{drive}");
+        }
+        assert_eq!(speed_raw_of(0), 32767);
+        assert_eq!(speed_raw_of(1000), 43416);
+        assert_eq!(speed_raw_of(-1000), 22117);
+        // Beyond ±1000 (which `normalise` never gives) the drive saturates.
+        assert_eq!(speed_raw_of(i16::MAX), speed_raw_of(1000));
+    }
 
     #[test]
     fn every_angle_maps_as_the_general_mapping() {

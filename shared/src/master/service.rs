@@ -2,7 +2,7 @@
 
 use super::{LinkError, LocalRegisters};
 use crate::protocol::sizes::Sizes;
-use crate::protocol::{Frame, FrameError, ReadSets, Rejected, Write};
+use crate::protocol::{Frame, FrameError, ReadSets, Rejected, Writes};
 
 /// The slave answered nothing (no ACK, or no data).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -56,26 +56,29 @@ impl Service {
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
     ) {
-        let header = match &frame {
-            Ok(f) => Some((f.device() << 4) | f.command() as u8),
-            Err(r) => r.header,
-        };
-        let result = match frame {
-            Ok(Frame::Write { device, writes }) => self.write(device, writes, bus, reply),
-            Ok(Frame::Read { device, set }) => self.read(sets, device, set, bus, reply),
-            Ok(Frame::SetReadSet { set, ids, .. }) => match sets.set(set, ids) {
-                Ok(()) => {
-                    // At most 24 ids, so the count fits a byte.
-                    reply(ids.len() as u8);
-                    Ok(())
-                }
-                Err(e) => Err(LinkError::Frame(e)),
-            },
-            Err(r) => Err(LinkError::Frame(r.error)),
+        // Whether the command answers with one byte (write, set read set): only those
+        // carry an error reply.
+        let (result, one_byte_reply) = match frame {
+            Ok(Frame::Write { device, writes }) => (self.write(device, writes, bus, reply), true),
+            Ok(Frame::Read { device, set }) => (self.read(sets, device, set, bus, reply), false),
+            Ok(Frame::SetReadSet { set, ids, .. }) => (
+                match sets.set(set, ids) {
+                    Ok(()) => {
+                        // At most 24 ids, so the count fits a byte.
+                        reply(ids.len() as u8);
+                        Ok(())
+                    }
+                    Err(e) => Err(LinkError::Frame(e)),
+                },
+                true,
+            ),
+            Err(r) => (
+                Err(LinkError::Frame(r.error)),
+                matches!(r.header.map(|h| h & 0x0f), Some(2) | Some(4)),
+            ),
         };
         if let Err(e) = result {
             self.local.record(e);
-            let one_byte_reply = matches!(header.map(|h| h & 0x0f), Some(2) | Some(4));
             let already_answered = matches!(e, LinkError::MissingRegister);
             if one_byte_reply && !already_answered {
                 reply(e.reply());
@@ -89,34 +92,29 @@ impl Service {
         self.local.record(e);
     }
 
-    /// A write frame: all writes are checked first, so a frame with a read-only register
-    /// writes nothing; then they are applied in order.
+    /// A write frame: a frame with a read-only register writes nothing (the parser found
+    /// them while validating); otherwise the writes are applied in order.
     fn write(
         &mut self,
         device: u8,
-        writes: impl Iterator<Item = Write> + Clone,
+        mut writes: Writes<'_>,
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
-        let kind = Sizes::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
-        // Two passes over one loop (check, then apply), so the firmware holds one copy of
-        // the decoding.
-        for apply in [false, true] {
-            for w in writes.clone() {
-                if !apply {
-                    match kind.is_writable(w.id) {
-                        Some(true) => {}
-                        Some(false) => return Err(LinkError::ReadOnly),
-                        None => return Err(LinkError::Frame(FrameError::UnknownRegister)),
-                    }
-                } else if device == 0 {
-                    self.local.write(w.id, w.raw);
-                } else {
-                    let size = usize::from(kind.size_of(w.id).unwrap_or(1));
-                    let bytes = w.raw.to_le_bytes();
-                    bus.write_register(device, w.id, &bytes[..size.min(2)])
-                        .map_err(|_| LinkError::NoAnswer)?;
-                }
+        if Sizes::of_device(device).is_none() {
+            return Err(LinkError::Frame(FrameError::BadDevice));
+        }
+        if writes.any_read_only() {
+            return Err(LinkError::ReadOnly);
+        }
+        while let Some((w, size)) = writes.next_sized() {
+            if device == 0 {
+                self.local.write(w.id, w.raw);
+            } else {
+                let bytes = w.raw.to_le_bytes();
+                let value = bytes.get(..usize::from(size)).unwrap_or(&bytes);
+                bus.write_register(device, w.id, value)
+                    .map_err(|_| LinkError::NoAnswer)?;
             }
         }
         reply(0);

@@ -6,6 +6,7 @@ use super::sizes::Sizes;
 use super::{Command, Frame, FrameError, Rejected, Request, SizesOf, Writes};
 use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
+use crate::regs::{FLAG_SIZE_MASK, FLAG_WRITABLE};
 
 /// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
 // In declaration order, the count first: the AVR reaches it from the parser's address
@@ -46,32 +47,46 @@ impl Parser {
     /// As [`Parser::push`], but the frame is a view into the parser's buffer: nothing is
     /// copied, which is what the master uses (a 2 KB RAM budget has no room for a copy).
     pub fn push_frame(&mut self, byte: u8) -> Option<Result<Frame<'_>, Rejected>> {
-        if self.len == 0 {
-            if byte < 2 {
-                return Some(Err(Rejected {
-                    error: FrameError::BadLength,
-                    header: None,
-                }));
-            }
-            self.buf[0] = byte;
-            self.len = 1;
-            return None;
+        if self.push_byte(byte) {
+            Some(self.completed())
+        } else {
+            None
         }
+    }
+
+    /// Feeds one byte; returns whether it ended a frame, which [`Parser::completed`] then
+    /// validates (until the next byte). The master's byte loop uses this, so that only a
+    /// completed frame reaches the validation and the frame logic.
+    pub fn push_byte(&mut self, byte: u8) -> bool {
         let index = usize::from(self.len);
-        // `len` < L <= 255 here, so `index` is inside the buffer.
+        // `len` < L <= 255 here, so `index` is inside the buffer; a length byte below 2
+        // is kept too, for `completed` to reject.
         if let Some(slot) = self.buf.get_mut(index) {
             *slot = byte;
         }
         self.len = self.len.wrapping_add(1);
-        if self.len < self.buf[0] {
-            return None;
+        // A frame of length L >= 2 ends at its L-th byte; a length byte of 0 or 1 ends its
+        // (error) frame at once.
+        if self.buf[0] >= 2 && self.len < self.buf[0] {
+            return false;
         }
-        let frame_len = usize::from(self.len);
         self.len = 0;
-        // `frame_len` <= 255 = the buffer's length; an empty slice would be BadLength.
+        true
+    }
+
+    /// The frame the last byte ended: the request, or why the frame is rejected.
+    pub fn completed(&self) -> Result<Frame<'_>, Rejected> {
+        let frame_len = usize::from(self.buf[0]);
+        if frame_len < 2 {
+            return Err(Rejected {
+                error: FrameError::BadLength,
+                header: None,
+            });
+        }
+        // `frame_len` <= 255 = the buffer's length.
         let frame = self.buf.get(..frame_len).unwrap_or(&[]);
         let header = frame.get(1).copied();
-        Some(validate(frame, Sizes::of_device).map_err(|error| Rejected { error, header }))
+        validate(frame, Sizes::of_device).map_err(|error| Rejected { error, header })
     }
 
     /// Drops a partial frame (the link's inter-byte timeout); returns true if one was
@@ -143,12 +158,14 @@ fn parse_writes(payload: &[u8], sizes: Sizes) -> Result<Writes<'_>, FrameError> 
         return Err(FrameError::LengthMismatch);
     }
     let mut rest = entries;
+    let mut read_only = false;
     for _ in 0..*count {
         let [id, after_id @ ..] = rest else {
             return Err(FrameError::LengthMismatch);
         };
-        let size = sizes.size_of(*id).ok_or(FrameError::UnknownRegister)?;
-        rest = match (size, after_id) {
+        let flags = sizes.flags(*id).ok_or(FrameError::UnknownRegister)?;
+        read_only |= flags & FLAG_WRITABLE == 0;
+        rest = match (flags & FLAG_SIZE_MASK, after_id) {
             (1, [_, tail @ ..]) => tail,
             (2, [_, _, tail @ ..]) => tail,
             _ => return Err(FrameError::LengthMismatch),
@@ -159,6 +176,7 @@ fn parse_writes(payload: &[u8], sizes: Sizes) -> Result<Writes<'_>, FrameError> 
             remaining: *count,
             bytes: entries,
             sizes,
+            read_only,
         })
     } else {
         Err(FrameError::LengthMismatch)

@@ -72,7 +72,18 @@ impl PulseTimer {
     /// at 65535).
     pub fn change(&mut self, levels: u8, now_us: u32) -> [Option<u16>; CHANNELS] {
         let mut widths = [None; CHANNELS];
-        for (c, width) in widths.iter_mut().enumerate() {
+        self.change_each(levels, now_us, |c, w| {
+            if let Some(width) = widths.get_mut(c) {
+                *width = Some(w);
+            }
+        });
+        widths
+    }
+
+    /// As [`PulseTimer::change`], handing each width to `pulse` (channel, µs) instead of
+    /// returning them: what the firmware uses, with no array in between.
+    pub fn change_each(&mut self, levels: u8, now_us: u32, mut pulse: impl FnMut(usize, u16)) {
+        for c in 0..CHANNELS {
             let mask = 1u8 << c;
             let was = self.levels & mask != 0;
             let is = levels & mask != 0;
@@ -83,13 +94,12 @@ impl PulseTimer {
                 }
                 (true, false) if self.rising_seen & mask != 0 => {
                     let w = now_us.wrapping_sub(self.rise_us[c]);
-                    *width = Some(u16::try_from(w).unwrap_or(u16::MAX));
+                    pulse(c, u16::try_from(w).unwrap_or(u16::MAX));
                 }
                 _ => {}
             }
         }
         self.levels = levels;
-        widths
     }
 }
 

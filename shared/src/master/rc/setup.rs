@@ -6,7 +6,8 @@
 //! test maps the engineering values with `mapping::map` and checks each one.
 
 use crate::master::ping::RegWrite;
-use crate::regs::id;
+use crate::protocol::sizes::Sizes;
+use crate::regs::{id, BoardKind};
 
 /// The drive/steer controllers of wheels 1..6.
 pub const DS_CONTROLLERS: [u8; 6] = [1, 2, 4, 5, 7, 8];
@@ -50,14 +51,27 @@ crate::flash_table! {
     pub static DS_CONTROLLERS_FLASH: [u8; 6] = DS_CONTROLLERS;
 }
 
-crate::flash_table! {
-    /// [`DRIVE_BLOCK`], kept in flash on the AVR.
-    static DRIVE_BLOCK_FLASH: [(u8, u16); 7] = DRIVE_BLOCK;
+/// Writes per board from the two blocks.
+const BLOCKS: usize = DRIVE_BLOCK.len() + STEER_BLOCK.len();
+
+/// [`DRIVE_BLOCK`] then [`STEER_BLOCK`], as one table.
+const fn both_blocks() -> [(u8, u16); BLOCKS] {
+    let mut out = [(0, 0); BLOCKS];
+    let mut i = 0;
+    while i < BLOCKS {
+        out[i] = if i < DRIVE_BLOCK.len() {
+            DRIVE_BLOCK[i]
+        } else {
+            STEER_BLOCK[i - DRIVE_BLOCK.len()]
+        };
+        i += 1;
+    }
+    out
 }
 
 crate::flash_table! {
-    /// [`STEER_BLOCK`], kept in flash on the AVR.
-    static STEER_BLOCK_FLASH: [(u8, u16); 8] = STEER_BLOCK;
+    /// [`DRIVE_BLOCK`] then [`STEER_BLOCK`], kept in flash on the AVR.
+    static BLOCKS_FLASH: [(u8, u16); BLOCKS] = both_blocks();
 }
 
 crate::flash_table! {
@@ -66,7 +80,7 @@ crate::flash_table! {
 }
 
 /// Writes per drive/steer board: the drive block, the steer block, CALIBMIN, CALIBMAX.
-const PER_BOARD: usize = DRIVE_BLOCK.len() + STEER_BLOCK.len() + 2;
+const PER_BOARD: usize = BLOCKS + 2;
 /// REG_RESET writes to devices 0..9.
 const RESETS: usize = 10;
 /// All the writes of the first link-up.
@@ -104,9 +118,7 @@ impl LinkUpWrites {
         let wheel = usize::from(self.wheel);
         let device = DS_CONTROLLERS_FLASH.get(wheel)?;
         let item = usize::from(self.item);
-        let (reg, raw) = if let Some(w) = DRIVE_BLOCK_FLASH.get(item) {
-            w
-        } else if let Some(w) = STEER_BLOCK_FLASH.get(item - DRIVE_BLOCK.len()) {
+        let (reg, raw) = if let Some(w) = BLOCKS_FLASH.get(item) {
             w
         } else {
             let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
@@ -116,7 +128,11 @@ impl LinkUpWrites {
                 (id::REGDS_STEER_CALIBMAX, u16::from(max))
             }
         };
-        RegWrite::sized(device, reg, raw)
+        // Every device here is a drive/steer board: its table sizes the value.
+        match Sizes::of(BoardKind::DriveSteer).size_of(reg)? {
+            1 => Some(RegWrite::byte(device, reg, raw as u8)),
+            _ => Some(RegWrite::word(device, reg, raw)),
+        }
     }
 }
 

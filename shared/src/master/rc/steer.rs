@@ -5,9 +5,13 @@
 //! tan θi = tan θo / (1 + (S/W)·tan θo), with W = 26.5 (half the 53 wheelbase) and
 //! S = 42 (separation). tan and atan come from 1° and 1/32 tables with linear
 //! interpolation in Q15 (2¹⁵ = 1.0); the result is within 0.012° of the f64 formula
-//! (checked on the host for every centidegree up to 45°).
+//! (checked on the host for every centidegree up to 45°). The firmware reads the same
+//! results from a step table built from them at compile time ([`wheel_angles`] through
+//! [`inner_angle_within_limit`]), so it carries neither the interpolation nor a division.
 
 use crate::progmem::Flash;
+
+mod steps;
 
 /// Limit of the steer integrator: ±30° in µdeg.
 pub const STEER_LIMIT_UDEG: i32 = 30_000_000;
@@ -99,14 +103,32 @@ pub fn inner_angle(outer: i16) -> i16 {
     }
 }
 
-/// The six steer angles (wheels 1..6, cdeg) for outer angle `outer`. Normal mode: for
-/// θo < 0, wheels 1, 2, 5, 6 = −θo, −θi, θo, θi; for θo ≥ 0 they are −θi, −θo, θi, θo;
-/// wheels 3 and 4 = 0. Crab mode: all six = θo.
+/// [`inner_angle`] for an outer angle within the integrator's ±30°, from the step table
+/// (the firmware's path: no interpolation or division at run time). Beyond ±30° the
+/// inner wheel takes the angle of ±30°'s.
+pub fn inner_angle_within_limit(outer: i16) -> i16 {
+    let a = outer.unsigned_abs();
+    if a < ACKERMANN_MIN_CDEG as u16 {
+        return outer;
+    }
+    // ≤ 4500, so it fits an i16.
+    let inner = steps::inner_of(a) as i16;
+    if outer < 0 {
+        -inner
+    } else {
+        inner
+    }
+}
+
+/// The six steer angles (wheels 1..6, cdeg) for outer angle `outer` (within the
+/// integrator's ±30°; see [`inner_angle_within_limit`]). Normal mode: for θo < 0, wheels
+/// 1, 2, 5, 6 = −θo, −θi, θo, θi; for θo ≥ 0 they are −θi, −θo, θi, θo; wheels 3 and 4 =
+/// 0. Crab mode: all six = θo.
 pub fn wheel_angles(outer: i16, crab: bool) -> [i16; 6] {
     if crab {
         return [outer; 6];
     }
-    let inner = inner_angle(outer);
+    let inner = inner_angle_within_limit(outer);
     let (w1, w2, w5, w6) = if outer < 0 {
         (outer.saturating_neg(), -inner, outer, inner)
     } else {
@@ -140,6 +162,21 @@ mod tests {
         } else {
             inner
         }
+    }
+
+    #[test]
+    fn within_the_limit_the_step_table_gives_the_inner_angle() {
+        let limit = (STEER_LIMIT_UDEG / 10_000) as i16;
+        for outer in -limit..=limit {
+            assert_eq!(
+                inner_angle_within_limit(outer),
+                inner_angle(outer),
+                "{outer}"
+            );
+        }
+        assert_eq!(inner_angle_within_limit(-3000), -1677);
+        assert_eq!(inner_angle_within_limit(i16::MIN), -1677);
+        assert_eq!(inner_angle_within_limit(499), 499);
     }
 
     #[test]
