@@ -22,15 +22,13 @@ impl TwiRelay {
 
     /// Reads a 2-byte register, LSB first.
     pub fn read_word(&mut self, device: u8, id: u8) -> Result<u16, BusError> {
-        let mut bytes = [0u8; 2];
-        let mut n = 0usize;
+        // Each byte shifts in from the top: after the two a successful read delivers, the
+        // first is the low byte.
+        let mut word = 0u16;
         self.read_run(device, id, 2, &mut |b| {
-            if let Some(slot) = bytes.get_mut(n) {
-                *slot = b;
-            }
-            n += 1;
+            word = (word >> 8) | (u16::from(b) << 8);
         })?;
-        Ok(u16::from_le_bytes(bytes))
+        Ok(word)
     }
 
     /// Performs one register write the master decided on (the schedule's, or the remote

@@ -24,8 +24,9 @@ use shared::regs::id;
 /// A pass every this many ms while the link is up.
 pub const PASS_PERIOD_MS: u16 = 5;
 
-/// One pin change: Timer1's count (half µs) and the channel levels (bit c = channel c).
-pub type Edge = (u16, u8);
+/// One pin change: Timer1's count (half µs) and the channel levels (bit c = channel c),
+/// widened to 16 bits so a queue slot is four bytes (its index scales by shifts).
+pub type Edge = (u16, u16);
 
 /// Pin changes waiting for idle. A receiver frame makes four changes in 20 ms, and idle
 /// is never away for more than a few ms, so eight is ample.
@@ -49,7 +50,7 @@ impl RcEdges {
     pub fn on_change(&self, queue: &mut EdgeQueue) {
         let count = self.timer.count();
         let levels = self.pins.levels();
-        let _ = queue.push_back((count, levels));
+        let _ = queue.push_back((count, u16::from(levels)));
     }
 }
 
@@ -82,9 +83,10 @@ impl RemoteControl {
     pub fn edge(&mut self, (count, levels): Edge, now_ms: u32) {
         let now_us = self.clock.stamp(count);
         let remote = &mut self.remote;
-        self.pulses.change_each(levels, now_us, |channel, width| {
-            remote.pulse(channel, width)
-        });
+        self.pulses
+            .change_each(levels as u8, now_us, |channel, width| {
+                remote.pulse(channel, width)
+            });
         self.remote.edge(now_ms);
     }
 

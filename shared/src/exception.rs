@@ -101,7 +101,8 @@ impl MasterException {
 
     /// REGMASTER_EXCEPTIONDATA: type in bits 0-7, slave in 8-11, motor in 12-15.
     pub const fn data(self) -> u16 {
-        self.kind as u16 | ((self.slave as u16 & 0xf) << 8) | ((self.motor as u16 & 0xf) << 12)
+        // Built as its two bytes: the high one is the slave nibble under the motor's.
+        u16::from_le_bytes([self.kind as u8, (self.slave & 0xf) | (self.motor << 4)])
     }
 }
 
@@ -163,6 +164,13 @@ mod tests {
             motor: 0,
         };
         assert_eq!(sensor.data(), 0x000a);
+        // Only the low nibbles of slave and motor are kept.
+        let wide = MasterException {
+            kind: ExceptionType::Stall,
+            slave: 0x1f,
+            motor: 0x12,
+        };
+        assert_eq!(wide.data(), 0x2f05);
     }
 
     #[test]

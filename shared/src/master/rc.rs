@@ -151,6 +151,8 @@ impl Remote {
     /// Whether the link is up at `now_ms`: an edge was seen less than 1 s ago. Call it
     /// every pass: an edge older than 1 s is forgotten, so the wrap of the 16-bit time
     /// stamp (every 65.5 s) cannot bring a dead link back.
+    // Out of line: idle's look at the link and the pass's both use it (one copy).
+    #[inline(never)]
     pub fn link_up(&mut self, now_ms: u32) -> bool {
         match self.last_edge_ms {
             Some(t) if (now_ms as u16).wrapping_sub(t) < LINK_TIMEOUT_MS => true,

@@ -83,23 +83,21 @@ impl PulseTimer {
     /// As [`PulseTimer::change`], handing each width to `pulse` (channel, µs) instead of
     /// returning them: what the firmware uses, with no array in between.
     pub fn change_each(&mut self, levels: u8, now_us: u32, mut pulse: impl FnMut(usize, u16)) {
-        for c in 0..CHANNELS {
+        // Channels that rose, and channels that fell after a rise this timer saw. (Level
+        // bits above the channels may land in `rising_seen`; nothing reads them.)
+        let rose = levels & !self.levels;
+        let ended = self.levels & !levels & self.rising_seen;
+        self.rising_seen |= rose;
+        self.levels = levels;
+        for (c, rise_us) in self.rise_us.iter_mut().enumerate() {
             let mask = 1u8 << c;
-            let was = self.levels & mask != 0;
-            let is = levels & mask != 0;
-            match (was, is) {
-                (false, true) => {
-                    self.rise_us[c] = now_us;
-                    self.rising_seen |= mask;
-                }
-                (true, false) if self.rising_seen & mask != 0 => {
-                    let w = now_us.wrapping_sub(self.rise_us[c]);
-                    pulse(c, u16::try_from(w).unwrap_or(u16::MAX));
-                }
-                _ => {}
+            if rose & mask != 0 {
+                *rise_us = now_us;
+            } else if ended & mask != 0 {
+                let w = now_us.wrapping_sub(*rise_us);
+                pulse(c, u16::try_from(w).unwrap_or(u16::MAX));
             }
         }
-        self.levels = levels;
     }
 }
 
@@ -118,6 +116,53 @@ mod tests {
         } else {
             value
         })
+    }
+
+    /// The per-channel transitions `change_each` replaces with masks: a rise stamps the
+    /// channel, a fall after a seen rise ends a pulse.
+    fn reference_change(
+        state: &mut (u8, u8, [u32; CHANNELS]),
+        levels: u8,
+        now_us: u32,
+    ) -> [Option<u16>; CHANNELS] {
+        let mut out = [None; CHANNELS];
+        for (c, slot) in out.iter_mut().enumerate() {
+            let mask = 1u8 << c;
+            match (state.0 & mask != 0, levels & mask != 0) {
+                (false, true) => {
+                    state.2[c] = now_us;
+                    state.1 |= mask;
+                }
+                (true, false) if state.1 & mask != 0 => {
+                    let w = now_us.wrapping_sub(state.2[c]);
+                    *slot = Some(u16::try_from(w).unwrap_or(u16::MAX));
+                }
+                _ => {}
+            }
+        }
+        state.0 = levels;
+        out
+    }
+
+    #[test]
+    fn every_sequence_of_four_level_changes_gives_the_per_channel_pulses() {
+        let mut pulses = 0;
+        for seq in 0..8u32.pow(4) {
+            let (mut timer, mut reference) = (PulseTimer::new(), (0, 0, [0; CHANNELS]));
+            for step in 0..4 {
+                let levels = (seq >> (3 * step) & 7) as u8;
+                // Steps far apart now and then, so some widths saturate.
+                let now = 1000 + step * (700 + 40_000 * (seq % 3));
+                let got = timer.change(levels, now);
+                assert_eq!(
+                    got,
+                    reference_change(&mut reference, levels, now),
+                    "{seq} {step}"
+                );
+                pulses += got.iter().flatten().count();
+            }
+        }
+        assert!(pulses > 1000, "{pulses}");
     }
 
     #[test]

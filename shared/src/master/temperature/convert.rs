@@ -27,14 +27,14 @@ pub enum ReadingError {
 pub fn crc8(bytes: &[u8]) -> u8 {
     let mut crc = 0u8;
     for &byte in bytes {
-        let mut b = byte;
+        // The byte's bits enter at bit 0 one per shift, so it can be mixed in whole.
+        crc ^= byte;
         for _ in 0..8 {
-            let mix = (crc ^ b) & 1;
+            let mix = crc & 1;
             crc >>= 1;
             if mix != 0 {
                 crc ^= 0x8c;
             }
-            b >>= 1;
         }
     }
     crc
@@ -48,9 +48,10 @@ pub const fn half_degrees(lsb: u8, msb: u8) -> i16 {
 /// The raw TEMP register value (−20..100 °C over 0..65534) of a temperature in half
 /// degrees; equal to `mapping::map(h / 2, TEMP register)` for every `h`.
 pub fn register_raw(half: i16) -> u16 {
-    // 0..=240, so the product is at most 7 864 080 and the quotient at most 65534.
-    let k = (i32::from(half).clamp(-40, 200) + 40) as u32;
-    (k * 32767 / 120) as u16
+    // 0..=240 (the clamp in 16 bits), so the product is at most 7 864 080 and the
+    // quotient at most 65534.
+    let k = (half.clamp(-40, 200) + 40) as u16;
+    (u32::from(k) * 32767 / 120) as u16
 }
 
 /// The raw TEMP register value of a scratchpad read from a sensor, if its CRC is right.
@@ -59,4 +60,34 @@ pub fn reading(scratchpad: &[u8; SCRATCHPAD_LEN]) -> Result<u16, ReadingError> {
         return Err(ReadingError::BadCrc);
     }
     Ok(register_raw(half_degrees(scratchpad[0], scratchpad[1])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::crc8;
+
+    /// The CRC as the bus shifts it: one data bit at a time against the register's bit 0.
+    fn bit_serial(bytes: &[u8]) -> u8 {
+        let mut crc = 0u8;
+        for &byte in bytes {
+            for i in 0..8 {
+                let mix = (crc ^ (byte >> i)) & 1;
+                crc >>= 1;
+                if mix != 0 {
+                    crc ^= 0x8c;
+                }
+            }
+        }
+        crc
+    }
+
+    #[test]
+    fn the_whole_byte_crc_is_the_bit_serial_one_for_every_pair_of_bytes() {
+        for a in 0..=u8::MAX {
+            for b in 0..=u8::MAX {
+                assert_eq!(crc8(&[a, b]), bit_serial(&[a, b]), "{a:#x} {b:#x}");
+            }
+        }
+        assert_eq!(crc8(&[0x02, 0x1c, 0xb8, 0x01, 0x00, 0x00, 0x00]), 0xa2);
+    }
 }

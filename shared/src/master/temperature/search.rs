@@ -66,13 +66,15 @@ impl RomSearch {
         if index == 0 {
             self.pass_zero = None;
         }
+        // The ROM byte and the bit within it, found once for the read and the write.
+        let (at, mask) = (usize::from(index / 8) % 8, 1u8 << (index % 8));
         let direction = match (bit, complement) {
             (true, true) => return Err(SearchError::NoDevice),
             (b, c) if b != c => b,
             _ => {
                 // A discrepancy: both values occur among the devices still taking part.
                 let take = match self.last_zero {
-                    Some(last) if index < last => self.rom_bit(index),
+                    Some(last) if index < last => self.rom[at] & mask != 0,
                     Some(last) if index == last => true,
                     _ => false,
                 };
@@ -82,7 +84,8 @@ impl RomSearch {
                 take
             }
         };
-        self.set_rom_bit(index, direction);
+        let byte = &mut self.rom[at];
+        *byte = (*byte & !mask) | if direction { mask } else { 0 };
         Ok(direction)
     }
 
@@ -100,20 +103,5 @@ impl RomSearch {
             return Err(SearchError::BadCrc);
         }
         Ok(self.rom)
-    }
-
-    fn rom_bit(&self, index: u8) -> bool {
-        let byte = self.rom[usize::from(index / 8) % 8];
-        byte & (1 << (index % 8)) != 0
-    }
-
-    fn set_rom_bit(&mut self, index: u8, value: bool) {
-        let byte = &mut self.rom[usize::from(index / 8) % 8];
-        let mask = 1 << (index % 8);
-        if value {
-            *byte |= mask;
-        } else {
-            *byte &= !mask;
-        }
     }
 }
