@@ -28,6 +28,19 @@ macro_rules! spin_on_panic {
     };
 }
 
+/// `n` in decimal without leading zeros: the tail of `buf` that holds its digits.
+pub fn decimal(mut n: u32, buf: &mut [u8; 10]) -> &[u8] {
+    let mut start = buf.len();
+    loop {
+        start -= 1;
+        buf[start] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            return &buf[start..];
+        }
+    }
+}
+
 /// Polled UART0 output for the fixtures' reports.
 pub mod uart {
     use avr_device::atmega328p::USART0;
@@ -82,21 +95,7 @@ pub mod uart {
 
     /// Prints `n` in decimal without leading zeros.
     pub fn put_dec(uart: &USART0, n: u16) {
-        let mut digits = [0u8; 5];
-        let mut len = 0;
-        let mut v = n;
-        loop {
-            digits[len] = b'0' + (v % 10) as u8;
-            len += 1;
-            v /= 10;
-            if v == 0 {
-                break;
-            }
-        }
-        while len > 0 {
-            len -= 1;
-            put(uart, digits[len]);
-        }
+        put_str(uart, crate::decimal(n.into(), &mut [0; 10]));
     }
 }
 

@@ -88,20 +88,8 @@ impl TxLine {
     }
 
     fn push_dec(&mut self, n: u16) {
-        let mut digits = [0u8; 5];
-        let mut count = 0;
-        let mut v = n;
-        loop {
-            digits[count] = b'0' + (v % 10) as u8;
-            count += 1;
-            v /= 10;
-            if v == 0 {
-                break;
-            }
-        }
-        while count > 0 {
-            count -= 1;
-            self.push(digits[count]);
+        for &d in firmware_examples::decimal(n.into(), &mut [0; 10]) {
+            self.push(d);
         }
     }
 

@@ -341,6 +341,22 @@ impl Pc {
         write_frame(device, &[write], "a demand")
     }
 
+    /// calibrate()'s two sends of a position motor's parameters, `pause` apart: the block as
+    /// `first` leaves it (the pot calibration), then as `then` leaves it (the gains).
+    fn two_sends(
+        &mut self,
+        wheel: u8,
+        motor: Motor,
+        first: impl Fn(&mut Block),
+        then: impl Fn(&mut Block),
+        pause: &Op,
+    ) -> Result<[Op; 3], HostError> {
+        first(self.block_mut(wheel, motor));
+        let calibration = self.send_params(wheel, motor)?;
+        then(self.block_mut(wheel, motor));
+        Ok([calibration, pause.clone(), self.send_params(wheel, motor)?])
+    }
+
     /// Rover::calibrate() (reference §8.3): per wheel, drive parameters, then steer and lift
     /// each in two sends 50 ms apart.
     pub fn calibrate(&mut self) -> Result<Vec<Op>, HostError> {
@@ -353,26 +369,32 @@ impl Pc {
             (drive.cap, drive.decay, drive.overcurrent) = (0.0, 0.0, 500.0);
             ops.push(self.send_params(wheel, Motor::Drive)?);
 
-            let steer = self.block_mut(wheel, Motor::Steer);
-            steer.calib = STEER_CALIBRATION[w];
-            (steer.cap, steer.decay) = (0.0, 0.0);
-            ops.push(self.send_params(wheel, Motor::Steer)?);
-            ops.push(pause.clone());
-            let steer = self.block_mut(wheel, Motor::Steer);
-            (steer.p, steer.i, steer.d) = (0.0, 2.0, 0.0);
-            (steer.cap, steer.decay, steer.overcurrent) = (300.0, 0.95, 500.0);
-            steer.dead_zone = 0.5;
-            ops.push(self.send_params(wheel, Motor::Steer)?);
+            let steer_calibration = |b: &mut Block| {
+                b.calib = STEER_CALIBRATION[w];
+                (b.cap, b.decay) = (0.0, 0.0);
+            };
+            let steer_gains = |b: &mut Block| {
+                (b.p, b.i, b.d) = (0.0, 2.0, 0.0);
+                (b.cap, b.decay, b.overcurrent) = (300.0, 0.95, 500.0);
+                b.dead_zone = 0.5;
+            };
+            ops.extend(self.two_sends(
+                wheel,
+                Motor::Steer,
+                steer_calibration,
+                steer_gains,
+                &pause,
+            )?);
 
-            let lift = self.block_mut(wheel, Motor::Lift);
-            lift.calib = LIFT_CALIBRATION[w];
-            (lift.cap, lift.decay) = (0.0, 0.0);
-            ops.push(self.send_params(wheel, Motor::Lift)?);
-            ops.push(pause.clone());
-            let lift = self.block_mut(wheel, Motor::Lift);
-            (lift.p, lift.i, lift.d) = (0.0, 5.0, 0.0);
-            (lift.cap, lift.decay, lift.overcurrent) = (50.0, 0.9, 500.0);
-            ops.push(self.send_params(wheel, Motor::Lift)?);
+            let lift_calibration = |b: &mut Block| {
+                b.calib = LIFT_CALIBRATION[w];
+                (b.cap, b.decay) = (0.0, 0.0);
+            };
+            let lift_gains = |b: &mut Block| {
+                (b.p, b.i, b.d) = (0.0, 5.0, 0.0);
+                (b.cap, b.decay, b.overcurrent) = (50.0, 0.9, 500.0);
+            };
+            ops.extend(self.two_sends(wheel, Motor::Lift, lift_calibration, lift_gains, &pause)?);
         }
         Ok(ops)
     }

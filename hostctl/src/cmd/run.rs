@@ -242,13 +242,18 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn a_script_runs_in_one_session_with_its_pauses_and_view() {
-        let lines = script::parse("t.rover", "drive 1 1000\ncalibrate\nwait 0.01\n").unwrap();
-        let plan = Plan {
+    /// The plan of a script `t.rover` holding `source`.
+    fn plan(source: &str) -> Plan {
+        let lines = script::parse("t.rover", source).unwrap();
+        Plan {
             path: "t.rover".into(),
             lines,
-        };
+        }
+    }
+
+    #[test]
+    fn a_script_runs_in_one_session_with_its_pauses_and_view() {
+        let plan = plan("drive 1 1000\ncalibrate\nwait 0.01\n");
         let mut replies = configure_replies();
         replies.push(vec![0]);
         replies.extend(std::iter::repeat_n(vec![0], 30));
@@ -344,11 +349,7 @@ mod tests {
 
     #[test]
     fn a_refused_write_names_the_script_line() {
-        let lines = script::parse("t.rover", "reset\n").unwrap();
-        let plan = Plan {
-            path: "t.rover".into(),
-            lines,
-        };
+        let plan = plan("reset\n");
         let mut replies = configure_replies();
         replies.push(vec![0x8c]);
         let mut port = FakePort::with_replies(&replies);

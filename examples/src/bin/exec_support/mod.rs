@@ -114,20 +114,8 @@ impl Uart {
 
     /// Sends `n` in decimal.
     pub fn put_dec(&mut self, n: u32) {
-        let mut digits = [0u8; 10];
-        let mut len = 0;
-        let mut v = n;
-        loop {
-            digits[len] = b'0' + (v % 10) as u8;
-            len += 1;
-            v /= 10;
-            if v == 0 {
-                break;
-            }
-        }
-        while len > 0 {
-            len -= 1;
-            self.put(digits[len]);
+        for &d in firmware_examples::decimal(n, &mut [0; 10]) {
+            self.put(d);
         }
     }
 
