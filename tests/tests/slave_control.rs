@@ -5,6 +5,8 @@
 
 mod slave_support;
 
+use physics::wheel::SlaveBoardModel;
+
 use shared::regs::id;
 use slave_support::{rig, Rig, DRIVE_GAINS, LIFT_GAINS_WHEEL_1, STEER_GAINS_WHEEL_1};
 
@@ -67,52 +69,44 @@ fn drive_steps_to_1000_ticks_per_second() {
     );
 }
 
-#[test]
-fn steer_steps_to_40_degrees() {
-    let mut r = rig(1);
+/// A position step as a PC program makes it: reset, calibrate()'s `gains`, REQPOS
+/// `target`; the board's ACTUALPOS must settle within 2 degrees by 4 s, the model's
+/// `angle` be within 2.5 degrees of it, and STATUS read `status` (no exception).
+fn position_step(
+    controller: u8,
+    gains: &[(u8, u16)],
+    (req, actual): (u8, u8),
+    target: f32,
+    status: u16,
+    angle: fn(&SlaveBoardModel) -> Option<f64>,
+) {
+    let mut r = rig(controller);
     r.run_us(2_000);
     r.reset_exceptions();
-    send(&mut r, STEER_GAINS_WHEEL_1);
-    r.write_value(id::REGDS_STEER_REQPOS, 40.0);
-    let samples = trace(&mut r, id::REGDS_STEER_ACTUALPOS, 100, 5_000);
-    println!("steer step: {samples:?}");
+    send(&mut r, gains);
+    r.write_value(req, target);
+    let samples = trace(&mut r, actual, 100, 5_000);
+    println!("position step: {samples:?}");
     let at =
-        settled_from(&samples, 40.0, 2.0).unwrap_or_else(|| panic!("not settled: {samples:?}"));
+        settled_from(&samples, target, 2.0).unwrap_or_else(|| panic!("not settled: {samples:?}"));
     assert!(at <= 4_000, "settled only at {at} ms");
-    let model = r
-        .plant
-        .model(r.chip)
-        .unwrap()
-        .ds()
-        .unwrap()
-        .steer
-        .motor
-        .angle_deg();
-    assert!((model - 40.0).abs() < 2.5, "model at {model}°");
-    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
+    let model = r.plant.model(r.chip).and_then(angle).unwrap();
+    assert!((model - f64::from(target)).abs() < 2.5, "model at {model}°");
+    assert_eq!(r.read_raw(id::REG_STATUS), status);
+}
+
+#[test]
+fn steer_steps_to_40_degrees() {
+    let regs = (id::REGDS_STEER_REQPOS, id::REGDS_STEER_ACTUALPOS);
+    position_step(1, STEER_GAINS_WHEEL_1, regs, 40.0, 0x0008, |m| {
+        m.ds().map(|d| d.steer.motor.angle_deg())
+    });
 }
 
 #[test]
 fn lift_steps_to_30_degrees() {
-    let mut r = rig(3);
-    r.run_us(2_000);
-    r.reset_exceptions();
-    send(&mut r, LIFT_GAINS_WHEEL_1);
-    r.write_value(id::REGLL_ONE_REQPOS, 30.0);
-    let samples = trace(&mut r, id::REGLL_ONE_ACTUALPOS, 100, 5_000);
-    println!("lift step: {samples:?}");
-    let at =
-        settled_from(&samples, 30.0, 2.0).unwrap_or_else(|| panic!("not settled: {samples:?}"));
-    assert!(at <= 4_000, "settled only at {at} ms");
-    let model = r
-        .plant
-        .model(r.chip)
-        .unwrap()
-        .ll()
-        .unwrap()
-        .one
-        .motor
-        .angle_deg();
-    assert!((model - 30.0).abs() < 2.5, "model at {model}°");
-    assert_eq!(r.read_raw(id::REG_STATUS), 0x0004);
+    let regs = (id::REGLL_ONE_REQPOS, id::REGLL_ONE_ACTUALPOS);
+    position_step(3, LIFT_GAINS_WHEEL_1, regs, 30.0, 0x0004, |m| {
+        m.ll().map(|l| l.one.motor.angle_deg())
+    });
 }
