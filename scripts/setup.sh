@@ -41,4 +41,16 @@ done
 for c in clippy rustfmt; do
   rustup component list --installed 2>/dev/null | grep -q "^$c" || rustup component add "$c"
 done
-echo "setup: done"
+# A full build and test run writes about 4 GB into target/; a linker that runs out of disk
+# dies with an obscure "Bus error", so say it plainly first.
+need_mb=4500
+target_parent=${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}
+probe=$target_parent
+while [ ! -d "$probe" ]; do probe=$(dirname "$probe"); done
+free_mb=$(df -Pm "$probe" | awk 'NR==2 {print $4}')
+if [ "${free_mb:-0}" -lt "$need_mb" ]; then
+  echo "setup: only ${free_mb} MB free under $probe; a full build needs about ${need_mb} MB." >&2
+  echo "setup: free some space (an old target/ directory: cargo clean) and run again." >&2
+  exit 1
+fi
+echo "setup: done (${free_mb} MB free for target/)"
