@@ -60,9 +60,9 @@ impl Leds {
     }
 
     /// A ping starts at `now_ms`.
-    pub fn ping(&mut self, now_ms: u32) {
+    pub fn ping(&mut self, now_ms: u16) {
         self.status.set_high();
-        self.ping_at = Some(now_ms as u16);
+        self.ping_at = Some(now_ms);
     }
 
     /// Notes the exception latched in `latch`, if it is one the master raised.
@@ -75,8 +75,8 @@ impl Leds {
 
     /// Sets both LEDs for `now_ms`, with the remote control's link `rc_up` or not.
     #[inline(never)]
-    pub fn update(&mut self, now_ms: u32, rc_up: bool) {
-        let now = now_ms as u16;
+    pub fn update(&mut self, now_ms: u16, rc_up: bool) {
+        let now = now_ms;
         if let Some(at) = self.ping_at {
             if now.wrapping_sub(at) >= PING_LIT_MS {
                 self.status.set_low();

@@ -53,15 +53,17 @@ impl Clock {
     }
 
     /// Milliseconds since boot (wraps after 65.5 s).
-    pub fn ms(&self) -> u32 {
-        u32::from(self.ms)
+    pub fn ms(&self) -> u16 {
+        self.ms
     }
 }
 
-/// Milliseconds since boot, read from the shared clock. Out of line: the loop and the PC
-/// link read it in six places, which share one copy of the lock and the 4-byte read.
+/// Milliseconds since boot (wrapping after 65.5 s), read from the shared clock. Out of
+/// line: the loop and the PC link read it in six places, which share one copy of the
+/// lock and the 2-byte read. Sixteen bits all the way: the shared logic takes its `u32`
+/// times widened at the call, so the upper bytes are known zeros there.
 #[inline(never)]
-pub fn now_ms(clock: &mut impl Lock<Clock>) -> u32 {
+pub fn now_ms(clock: &mut impl Lock<Clock>) -> u16 {
     clock.lock(|c| c.ms())
 }
 

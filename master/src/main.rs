@@ -57,7 +57,7 @@ use drivers::usart::Usart0;
 use drivers::watchdog::{Timeout, Watchdog};
 use leds::{BlueLed, Leds, StatusLed};
 use link::{Clock, Replies, RxEvent, RxQueue, TxQueue};
-use pc::{PcLink, Serve};
+use pc::PcLink;
 use relay::TwiRelay;
 use remote::{EdgeQueue, RcEdges, RemoteControl};
 use shared::master::{Schedule, Service};
@@ -165,23 +165,24 @@ fn idle(mut cx: idle::Context) -> ! {
     // Boot work, under the 1-s watchdog: the sensors, then the slaves' hard resets
     // (REG_RESET = 2), after which each reboots into its boot exception with defaults.
     l.temps.discover(l.wire, l.watchdog, &mut l.service.local);
-    while !l.schedule.booted() {
+    // The handles of all slave traffic and PC frames, built once for boot and the loop.
+    let mut traffic = Traffic {
+        schedule: l.schedule,
+        service: l.service,
+        relay: l.relay,
+        watchdog: l.watchdog,
+    };
+    while !traffic.schedule.booted() {
         let now = link::now_ms(&mut cx.shared.clock);
-        let mut traffic = Traffic {
-            schedule: l.schedule,
-            local: &mut l.service.local,
-            relay: l.relay,
-            watchdog: l.watchdog,
-        };
         traffic.schedule_step(now, l.temps, l.leds);
     }
-    l.watchdog.start(Timeout::Ms125);
+    traffic.watchdog.start(Timeout::Ms125);
     banner::finish(&mut Replies::new(&mut cx.shared.tx));
     l.leds.ready();
 
     let mut turn = 0u8;
     loop {
-        l.watchdog.feed();
+        traffic.watchdog.feed();
         let now = link::now_ms(&mut cx.shared.clock);
         while let Some(edge) = cx.shared.edges.lock(|q| q.pop_front()) {
             l.remote.edge(edge, now);
@@ -193,22 +194,11 @@ fn idle(mut cx: idle::Context) -> ! {
             &mut cx.shared.tx,
             &mut cx.shared.clock,
             rc_up,
-            Serve {
-                service: l.service,
-                schedule: l.schedule,
-                relay: l.relay,
-                watchdog: l.watchdog,
-            },
+            &mut traffic,
         );
 
         // Then one piece of work: the PC link is drained between any two.
         let now = link::now_ms(&mut cx.shared.clock);
-        let mut traffic = Traffic {
-            schedule: l.schedule,
-            local: &mut l.service.local,
-            relay: l.relay,
-            watchdog: l.watchdog,
-        };
         busy |= one_piece_of_work(
             &mut turn,
             now,
@@ -219,7 +209,7 @@ fn idle(mut cx: idle::Context) -> ! {
             l.leds,
         );
 
-        l.leds.note(&l.service.local.exception);
+        l.leds.note(&traffic.service.local.exception);
         l.leds.update(now, rc_up);
         if !busy {
             cx.sleep
@@ -233,7 +223,7 @@ fn idle(mut cx: idle::Context) -> ! {
 /// temperature tick, the schedule's next action. Returns whether there was one.
 fn one_piece_of_work(
     turn: &mut u8,
-    now: u32,
+    now: u16,
     traffic: &mut Traffic<'_>,
     remote: &mut RemoteControl,
     temps: &mut Temperatures,
@@ -241,12 +231,13 @@ fn one_piece_of_work(
     leds: &mut Leds,
 ) -> bool {
     for _ in 0..3 {
-        *turn = (*turn + 1) % 3;
+        // The next of 0, 1, 2 (a comparison, where `% 3` would call a division).
+        *turn = if *turn >= 2 { 0 } else { *turn + 1 };
         let worked = match *turn {
             0 => remote.next(now, |w| traffic.remote_write(&w, now)),
             1 => {
                 let ticking = temps.busy();
-                temps.step(wire, traffic.local);
+                temps.step(wire, &mut traffic.service.local);
                 ticking
             }
             _ => traffic.schedule_step(now, temps, leds),

@@ -4,22 +4,10 @@
 //! the inter-byte timeout.
 
 use crate::link::{now_ms, Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
-use crate::relay::{TwiRelay, Watched};
-use drivers::watchdog::Watchdog;
-use shared::master::{InterByteTimeout, LinkError, Schedule, Service};
-use shared::protocol::{FrameError, Parser, ReadSets};
-
-/// What serving a frame uses besides the link itself.
-pub struct Serve<'a> {
-    /// The frame logic and device 0.
-    pub service: &'a mut Service,
-    /// Told whether the addressed slave answered.
-    pub schedule: &'a mut Schedule,
-    /// The I2C relay.
-    pub relay: &'a mut TwiRelay,
-    /// Fed before every I2C access.
-    pub watchdog: &'a Watchdog,
-}
+use crate::relay::Watched;
+use crate::traffic::Traffic;
+use shared::master::{InterByteTimeout, LinkError};
+use shared::protocol::{Parser, ReadSets};
 
 /// The parser, the inter-byte timeout and the read sets.
 // In declaration order, the small per-byte state first, within a short displacement of
@@ -51,7 +39,7 @@ impl PcLink {
         tx: &mut impl Lock<TxQueue>,
         clock: &mut impl Lock<Clock>,
         swallow: bool,
-        mut s: Serve<'_>,
+        s: &mut Traffic<'_>,
     ) -> bool {
         let mut took = false;
         while let Some(event) = rx.lock(|q| q.pop_front()) {
@@ -60,7 +48,7 @@ impl PcLink {
             match event {
                 RxEvent::Byte(b) => {
                     if self.parser.push_byte(b) && !swallow {
-                        self.serve(tx, clock, &mut s);
+                        self.serve(tx, clock, s);
                     }
                 }
                 _ => {
@@ -70,13 +58,12 @@ impl PcLink {
                     }
                 }
             }
-            self.timeout.byte(now, self.parser.in_frame());
+            self.timeout.byte(u32::from(now), self.parser.in_frame());
         }
         let now = now_ms(clock);
         let waiting = rx.lock(|q| !q.is_empty());
-        if self.timeout.expired(now, waiting) && self.parser.abort() {
-            s.service
-                .link_error(LinkError::Frame(FrameError::Truncated));
+        if self.timeout.expired(u32::from(now), waiting) && self.parser.abort() {
+            s.service.link_error(LinkError::Truncated);
         }
         took
     }
@@ -89,7 +76,7 @@ impl PcLink {
         &mut self,
         tx: &mut impl Lock<TxQueue>,
         clock: &mut impl Lock<Clock>,
-        s: &mut Serve<'_>,
+        s: &mut Traffic<'_>,
     ) {
         let mut bus = Watched::new(s.relay, s.watchdog);
         let mut out = Replies::new(tx);
@@ -102,7 +89,7 @@ impl PcLink {
         if let Some((device, answered)) = bus.outcome() {
             let now = now_ms(clock);
             let latch = &mut s.service.local.exception;
-            s.schedule.observe(device, answered, now, latch);
+            s.schedule.observe_at(device, answered, now, latch);
         }
     }
 }

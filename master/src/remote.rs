@@ -17,7 +17,8 @@
 use drivers::rc_pins::RcPins;
 use drivers::timer1::{EdgeClock, FreeRunning};
 use shared::master::rc::setup::DS_CONTROLLERS_FLASH;
-use shared::master::rc::{angle_raw, speed_raw_of, LinkUpWrites, Pass, PulseTimer, Remote};
+use shared::master::rc::{angle_raw_in_range, speed_raw_in_range};
+use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote};
 use shared::master::{RegWrite, Ring};
 use shared::regs::id;
 
@@ -80,20 +81,20 @@ impl RemoteControl {
     /// Takes in one pin change, seen by idle at `now_ms`: the pulse that ended, if any,
     /// and the edge for the link state.
     #[inline(never)]
-    pub fn edge(&mut self, (count, levels): Edge, now_ms: u32) {
+    pub fn edge(&mut self, (count, levels): Edge, now_ms: u16) {
         let now_us = self.clock.stamp(count);
         let remote = &mut self.remote;
         self.pulses
             .change_each(levels as u8, now_us, |channel, width| {
                 remote.pulse(channel, width)
             });
-        self.remote.edge(now_ms);
+        self.remote.edge(u32::from(now_ms));
     }
 
     /// Whether the link is up at `now_ms` (PC frames are then swallowed and the blue
     /// LED is lit).
-    pub fn link_up(&mut self, now_ms: u32) -> bool {
-        self.remote.swallows_frames(now_ms)
+    pub fn link_up(&mut self, now_ms: u16) -> bool {
+        self.remote.link_up_at(now_ms)
     }
 
     /// Sends through `send` what is due at `now_ms`: the first link-up's writes one at a
@@ -101,8 +102,8 @@ impl RemoteControl {
     /// is up a pass, whose twelve writes go out together (about 1.3 ms at 400 kHz).
     /// Returns whether anything was sent.
     #[inline(never)]
-    pub fn next(&mut self, now_ms: u32, mut send: impl FnMut(RegWrite)) -> bool {
-        let (up, first) = self.remote.link_state(now_ms);
+    pub fn next(&mut self, now_ms: u16, mut send: impl FnMut(RegWrite)) -> bool {
+        let (up, first) = self.remote.link_state(u32::from(now_ms));
         if first {
             self.setup = Some(LinkUpWrites::new());
         }
@@ -115,7 +116,7 @@ impl RemoteControl {
                 None => self.setup = None,
             }
         }
-        let now = now_ms as u16;
+        let now = now_ms;
         if !up || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
             return false;
         }
@@ -128,7 +129,8 @@ impl RemoteControl {
 /// The writes of `pass`, in the order of `Pass::writes`: for wheels 1..6, REQSPEED then
 /// STEER_REQPOS on the wheel's drive/steer board.
 fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
-    let speed = speed_raw_of(pass.drive);
+    // Every drive is within ±1000 and every angle within ±30°: the clamp-free mappings.
+    let speed = speed_raw_in_range(pass.drive);
     // One call site for all twelve writes, so `send` is inlined once: write i is wheel
     // i / 2's (as `Pass::steer_raw(i / 2 + 1)`), REQSPEED for even i.
     for i in 0..2 * pass.angles.len() {
@@ -141,7 +143,7 @@ fn pass_writes(pass: &Pass, mut send: impl FnMut(RegWrite)) {
         let (id, raw) = if i % 2 == 0 {
             (id::REGDS_DRIVE_REQSPEED, speed)
         } else {
-            (id::REGDS_STEER_REQPOS, angle_raw(angle))
+            (id::REGDS_STEER_REQPOS, angle_raw_in_range(angle))
         };
         send(RegWrite::word(device, id, raw));
     }

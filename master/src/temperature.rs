@@ -81,14 +81,11 @@ impl Temperatures {
                 break;
             }
         }
-        // The sensor the first tick reads: none found, and the steps do nothing.
-        self.job = Job {
-            active: true,
-            read: None,
-            convert: Some(self.poller.next()),
-            step: READ_STEPS,
-            pad: [0; SCRATCHPAD_LEN],
-        };
+        // The sensor the first tick reads: none found, and the steps do nothing. The job
+        // is still `Job::IDLE` (nothing read, a zero pad), so only what differs is set.
+        self.job.active = true;
+        self.job.convert = Some(self.poller.next());
+        self.job.step = READ_STEPS;
         while self.busy() {
             self.step(wire, local);
         }

@@ -1,24 +1,25 @@
 //! The master's own slave traffic: the schedule's actions (boot resets, ping, spreading,
 //! liveness checks, temperature ticks) and the remote control's writes, performed on the
-//! relay with the watchdog fed before each access.
+//! relay with the watchdog fed before each access. The same handles serve the PC link's
+//! frames (`crate::pc`): idle builds them once.
 
 use crate::leds::Leds;
 use crate::relay::TwiRelay;
 use crate::temperature::Temperatures;
 use drivers::watchdog::Watchdog;
-use shared::master::{Action, LocalRegisters, Outcome, RegWrite, Schedule};
+use shared::master::{Action, Outcome, RegWrite, Schedule, Service};
 use shared::regs::id;
 
-/// What performing traffic touches.
+/// What performing traffic, or serving a PC frame, touches.
 pub struct Traffic<'a> {
     /// The schedule of slave traffic.
     pub schedule: &'a mut Schedule,
-    /// Device 0: the exception latch and the temperatures.
-    pub local: &'a mut LocalRegisters,
+    /// The frame logic and device 0 (the exception latch and the temperatures).
+    pub service: &'a mut Service,
     /// The I2C relay.
     pub relay: &'a mut TwiRelay,
     /// Fed before every access.
-    pub watchdog: &'a Watchdog,
+    pub watchdog: &'a mut Watchdog,
 }
 
 impl Traffic<'_> {
@@ -27,11 +28,11 @@ impl Traffic<'_> {
     /// `temps.step`); a missing sensor is raised once the tick is reported.
     pub fn schedule_step(
         &mut self,
-        now_ms: u32,
+        now_ms: u16,
         temps: &mut Temperatures,
         leds: &mut Leds,
     ) -> bool {
-        let Some(action) = self.schedule.poll(now_ms) else {
+        let Some(action) = self.schedule.poll(u32::from(now_ms)) else {
             return false;
         };
         let mut missing = None;
@@ -53,24 +54,29 @@ impl Traffic<'_> {
                 Outcome::Done
             }
         };
-        self.schedule.feed(outcome, &mut self.local.exception);
+        self.schedule
+            .feed(outcome, &mut self.service.local.exception);
         if let Some(e) = missing {
-            self.schedule.raise(e, &mut self.local.exception);
+            self.schedule.raise(e, &mut self.service.local.exception);
         }
         true
     }
 
     /// Performs one write of the remote control at `now_ms`: to the master itself for
     /// device 0, else on the relay, reported to the schedule as liveness evidence.
-    pub fn remote_write(&mut self, w: &RegWrite, now_ms: u32) {
+    pub fn remote_write(&mut self, w: &RegWrite, now_ms: u16) {
         if w.device == 0 {
-            self.local.write(w.id, w.raw());
+            self.service.local.write(w.id, w.raw());
             return;
         }
         self.watchdog.feed();
         let answered = self.relay.write(w).is_ok();
-        self.schedule
-            .observe(w.device, answered, now_ms, &mut self.local.exception);
+        self.schedule.observe_at(
+            w.device,
+            answered,
+            now_ms,
+            &mut self.service.local.exception,
+        );
     }
 
     fn read(&mut self, device: u8, reg: u8) -> Outcome {

@@ -87,8 +87,9 @@ impl<T: Copy> Flash<[T]> {
 mod avr {
     use core::mem::{size_of, MaybeUninit};
 
-    /// Reads the `T` at flash address `src`: one `LPM` in line for a byte, else a call to
-    /// the one copy loop, so each table read costs a few instructions at its call site.
+    /// Reads the `T` at flash address `src`: in line for up to four bytes (one `LPM` per
+    /// byte, straight into registers), else a call to the one copy loop, so each table
+    /// read costs a few instructions at its call site.
     ///
     /// # Safety
     /// `src` is the address in flash (below 64 KB) of a valid `T`.
@@ -99,6 +100,15 @@ mod avr {
         if size_of::<T>() == 1 {
             // SAFETY: per the contract, `addr` holds a valid one-byte `T`.
             return unsafe { core::mem::transmute_copy(&byte(addr)) };
+        }
+        if size_of::<T>() == 2 {
+            // SAFETY: per the contract, `addr` holds a valid two-byte `T`.
+            return unsafe { core::mem::transmute_copy(&bytes2(addr)) };
+        }
+        if size_of::<T>() <= 4 {
+            // SAFETY: per the contract, the first `size_of::<T>()` bytes at `addr` are a
+            // valid `T`; `transmute_copy` reads only those from the four.
+            return unsafe { core::mem::transmute_copy(&bytes4(addr)) };
         }
         let mut out = MaybeUninit::<T>::uninit();
         // SAFETY: `out` has room for the `size_of::<T>()` bytes read from a valid `T`
@@ -130,6 +140,49 @@ mod avr {
     ///
     /// # Safety
     /// `dst` is valid for `len` bytes of writes.
+    /// The two bytes at flash address `addr`.
+    #[inline(always)]
+    fn bytes2(addr: u16) -> [u8; 2] {
+        let (a, b): (u8, u8);
+        // SAFETY: LPM only reads program memory, at Z (post-incremented into a clobbered
+        // copy); it touches no data memory, no stack and no flags.
+        unsafe {
+            core::arch::asm!(
+                "lpm {a}, Z+",
+                "lpm {b}, Z",
+                a = out(reg) a,
+                b = out(reg) b,
+                inout("Z") addr => _,
+                options(pure, readonly, nostack, preserves_flags),
+            );
+        }
+        [a, b]
+    }
+
+    /// The four bytes at flash address `addr` (a three-byte item reads one byte past its
+    /// end: reading flash has no effect, and the byte is dropped).
+    #[inline(always)]
+    fn bytes4(addr: u16) -> [u8; 4] {
+        let (a, b, c, d): (u8, u8, u8, u8);
+        // SAFETY: LPM only reads program memory, at Z (post-incremented into a clobbered
+        // copy); it touches no data memory, no stack and no flags.
+        unsafe {
+            core::arch::asm!(
+                "lpm {a}, Z+",
+                "lpm {b}, Z+",
+                "lpm {c}, Z+",
+                "lpm {d}, Z",
+                a = out(reg) a,
+                b = out(reg) b,
+                c = out(reg) c,
+                d = out(reg) d,
+                inout("Z") addr => _,
+                options(pure, readonly, nostack, preserves_flags),
+            );
+        }
+        [a, b, c, d]
+    }
+
     #[inline(never)]
     unsafe fn copy(dst: *mut u8, src: u16, len: u8) {
         for i in 0..len {

@@ -8,58 +8,100 @@ pub const ERROR_REPLY_FLAG: u8 = 0x80;
 
 /// Why the master refused a frame or could not complete it. The code is stored in
 /// REGMASTER_LASTERROR and sent in error replies (`0x80 | code`).
+///
+/// The discriminants are the wire codes: codes 1..=8 are the frame errors, with the
+/// names and numbers of [`FrameError`]'s variants, so taking the code is reading the byte.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum LinkError {
-    /// The frame itself was malformed (codes 1..=8).
-    Frame(FrameError),
+    /// The length byte is 0, 1 or 2 ([`FrameError::BadLength`]).
+    BadLength = FrameError::BadLength as u8,
+    /// The device nibble is 10..=15 ([`FrameError::BadDevice`]).
+    BadDevice = FrameError::BadDevice as u8,
+    /// The command nibble is not 2, 3 or 4 ([`FrameError::UnknownCommand`]).
+    UnknownCommand = FrameError::UnknownCommand as u8,
+    /// A write names an id the device does not have ([`FrameError::UnknownRegister`]).
+    UnknownRegister = FrameError::UnknownRegister as u8,
+    /// The payload does not fit the command ([`FrameError::LengthMismatch`]).
+    LengthMismatch = FrameError::LengthMismatch as u8,
+    /// A read-set index is 8 or more ([`FrameError::BadReadSet`]).
+    BadReadSet = FrameError::BadReadSet as u8,
+    /// A set-read-set frame carries more than 24 ids ([`FrameError::ReadSetTooLarge`]).
+    ReadSetTooLarge = FrameError::ReadSetTooLarge as u8,
+    /// A frame stopped arriving and was dropped ([`FrameError::Truncated`]).
+    Truncated = FrameError::Truncated as u8,
     /// A write named a read-only register; nothing in the frame was written.
-    ReadOnly,
+    ReadOnly = 9,
     /// A read set named a register the device does not have; it read as 0xcd.
-    MissingRegister,
+    MissingRegister = 10,
     /// A read of an empty read set: there is nothing to answer.
-    EmptyReadSet,
+    EmptyReadSet = 11,
     /// A slave did not answer on the I2C bus.
-    NoAnswer,
+    NoAnswer = 12,
     /// A byte arrived with a framing error (wrong baud rate or noise); it was dropped.
-    Framing,
+    Framing = 13,
     /// A byte was lost because the receiver overran.
-    Overrun,
+    Overrun = 14,
 }
 
 impl LinkError {
-    /// The wire code (non-zero, below 0x80).
+    /// Every variant, in code order.
+    pub const ALL: [LinkError; 14] = [
+        LinkError::BadLength,
+        LinkError::BadDevice,
+        LinkError::UnknownCommand,
+        LinkError::UnknownRegister,
+        LinkError::LengthMismatch,
+        LinkError::BadReadSet,
+        LinkError::ReadSetTooLarge,
+        LinkError::Truncated,
+        LinkError::ReadOnly,
+        LinkError::MissingRegister,
+        LinkError::EmptyReadSet,
+        LinkError::NoAnswer,
+        LinkError::Framing,
+        LinkError::Overrun,
+    ];
+
+    /// The wire code (non-zero, below 0x80): the discriminant.
     pub const fn code(self) -> u8 {
-        match self {
-            LinkError::Frame(e) => e.code(),
-            LinkError::ReadOnly => 9,
-            LinkError::MissingRegister => 10,
-            LinkError::EmptyReadSet => 11,
-            LinkError::NoAnswer => 12,
-            LinkError::Framing => 13,
-            LinkError::Overrun => 14,
-        }
+        self as u8
     }
 
     /// The error with this code.
     pub const fn from_code(code: u8) -> Option<LinkError> {
-        Some(match code {
-            9 => LinkError::ReadOnly,
-            10 => LinkError::MissingRegister,
-            11 => LinkError::EmptyReadSet,
-            12 => LinkError::NoAnswer,
-            13 => LinkError::Framing,
-            14 => LinkError::Overrun,
-            _ => match FrameError::from_code(code) {
-                Some(e) => LinkError::Frame(e),
-                None => return None,
-            },
-        })
+        // Codes run 1..=14 in `ALL`'s order.
+        match code {
+            1..=14 => Some(LinkError::ALL[code as usize - 1]),
+            _ => None,
+        }
+    }
+
+    /// The frame error behind a code of 1..=8, if it is one.
+    pub const fn frame(self) -> Option<FrameError> {
+        FrameError::from_code(self.code())
+    }
+
+    /// The link error of a frame error: the same code.
+    pub const fn of_frame(e: FrameError) -> LinkError {
+        match e {
+            FrameError::BadLength => LinkError::BadLength,
+            FrameError::BadDevice => LinkError::BadDevice,
+            FrameError::UnknownCommand => LinkError::UnknownCommand,
+            FrameError::UnknownRegister => LinkError::UnknownRegister,
+            FrameError::LengthMismatch => LinkError::LengthMismatch,
+            FrameError::BadReadSet => LinkError::BadReadSet,
+            FrameError::ReadSetTooLarge => LinkError::ReadSetTooLarge,
+            FrameError::Truncated => LinkError::Truncated,
+        }
     }
 
     /// Words for people.
     pub const fn describe(self) -> &'static str {
+        if let Some(e) = self.frame() {
+            return e.describe();
+        }
         match self {
-            LinkError::Frame(e) => e.describe(),
             LinkError::ReadOnly => {
                 "write to a read-only register; nothing in the frame was written"
             }
@@ -70,6 +112,8 @@ impl LinkError {
             LinkError::NoAnswer => "a slave did not answer on the I2C bus",
             LinkError::Framing => "serial framing error: check the baud rate (115200 8N1)",
             LinkError::Overrun => "serial receive overrun: a byte was lost",
+            // The frame errors were answered above.
+            _ => "malformed frame",
         }
     }
 
@@ -81,6 +125,31 @@ impl LinkError {
 
 impl From<FrameError> for LinkError {
     fn from(e: FrameError) -> Self {
-        LinkError::Frame(e)
+        LinkError::of_frame(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_code_is_its_variants_discriminant_and_frame_errors_keep_theirs() {
+        for (i, e) in LinkError::ALL.into_iter().enumerate() {
+            assert_eq!(usize::from(e.code()), i + 1);
+            assert_eq!(LinkError::from_code(e.code()), Some(e));
+        }
+        for e in FrameError::ALL {
+            let l = LinkError::from(e);
+            assert_eq!(l.code(), e.code());
+            assert_eq!(l.frame(), Some(e));
+            assert_eq!(l.describe(), e.describe());
+        }
+        assert_eq!(LinkError::NoAnswer.code(), 12);
+        assert_eq!(LinkError::Overrun.code(), 14);
+        assert_eq!(LinkError::Overrun.frame(), None);
+        assert_eq!(LinkError::from_code(15), None);
+        assert_eq!(LinkError::from_code(0), None);
+        assert_eq!(core::mem::size_of::<LinkError>(), 1);
     }
 }

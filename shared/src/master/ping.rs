@@ -112,18 +112,25 @@ enum PingStage {
     ExceptionData,
 }
 
-/// The remaining writes of a spread.
+/// The remaining writes of a spread: to slaves 10 − `left` ..= 9, skipping `except`.
+/// Counted down, so the state with nothing left is all zeros (no tag, and the schedule
+/// stays all zeros at boot).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 struct Spread {
-    next: u8,
+    left: u8,
     except: u8,
 }
 
 impl Spread {
+    /// Slaves 1..=9 except `except`.
+    const fn to_all_but(except: u8) -> Self {
+        Spread { left: 9, except }
+    }
+
     fn take(&mut self) -> Option<u8> {
-        while self.next <= 9 {
-            let d = self.next;
-            self.next += 1;
+        while self.left > 0 {
+            let d = 10 - self.left;
+            self.left -= 1;
             if d != self.except {
                 return Some(d);
             }
@@ -144,9 +151,11 @@ pub struct Schedule {
     last_temperature: u16,
     last_check: u16,
     ping: Option<(u8, PingStage)>,
-    check: Option<u8>,
-    recheck: Option<u8>,
-    spread: Option<Spread>,
+    // The slave being checked and the one to re-check next, 0 for none: only slaves
+    // 1..=9 are ever checked, so device 0 is free to mean "none" (one byte each, no tag).
+    check: u8,
+    recheck: u8,
+    spread: Spread,
     health: Health,
     /// The current action, its job and the poll time it was issued at.
     in_flight: Option<(Action, Job, u16)>,
@@ -168,9 +177,9 @@ impl Schedule {
             last_temperature: 0,
             last_check: 0,
             ping: None,
-            check: None,
-            recheck: None,
-            spread: None,
+            check: 0,
+            recheck: 0,
+            spread: Spread { left: 0, except: 0 },
             health: Health::new(),
             in_flight: None,
         }
@@ -232,7 +241,7 @@ impl Schedule {
                 }
             }
             Job::Check => {
-                if let Some(d) = self.check.take() {
+                if let Some(d) = take_slave(&mut self.check) {
                     self.evidence(d, answered, at, latch);
                 }
             }
@@ -255,11 +264,17 @@ impl Schedule {
 
     /// Reports whether a slave answered an access at `now_ms` that the schedule did not
     /// ask for (the PC frames the master relays), as evidence of its liveness.
+    pub fn observe(&mut self, device: u8, answered: bool, now_ms: u32, latch: &mut MasterLatch) {
+        self.observe_at(device, answered, now_ms as u16, latch);
+    }
+
+    /// [`Schedule::observe`] on the clock's low 16 bits, which is all it keeps (what the
+    /// firmware's 16-bit clock passes).
     // Out of line: PC frames and the remote control's writes both report (one copy).
     #[inline(never)]
-    pub fn observe(&mut self, device: u8, answered: bool, now_ms: u32, latch: &mut MasterLatch) {
+    pub fn observe_at(&mut self, device: u8, answered: bool, now_ms: u16, latch: &mut MasterLatch) {
         if self.started {
-            self.evidence(device, answered, now_ms as u16, latch);
+            self.evidence(device, answered, now_ms, latch);
         }
     }
 
@@ -270,19 +285,13 @@ impl Schedule {
         if !latch.raise(e) {
             return false;
         }
-        self.spread = Some(Spread {
-            next: 1,
-            except: e.slave,
-        });
+        self.spread = Spread::to_all_but(e.slave);
         true
     }
 
     fn next_action(&mut self, now_ms: u32) -> Option<(Action, Job)> {
-        if let Some(spread) = &mut self.spread {
-            match spread.take() {
-                Some(d) => return Some((spread_write(d), Job::Spread)),
-                None => self.spread = None,
-            }
+        if let Some(d) = self.spread.take() {
+            return Some((spread_write(d), Job::Spread));
         }
         if self.boot_sent < 9 {
             self.boot_sent += 1;
@@ -290,8 +299,8 @@ impl Schedule {
             let reset = RegWrite::byte(d, id::REG_RESET, 2);
             return Some((Action::WriteReg(reset), Job::Boot));
         }
-        if let Some(d) = self.recheck.take() {
-            self.check = Some(d);
+        if let Some(d) = take_slave(&mut self.recheck) {
+            self.check = d;
             return Some((Action::ReadStatus { device: d }, Job::Check));
         }
         if let Some((d, stage)) = self.ping {
@@ -317,7 +326,7 @@ impl Schedule {
         let paced = u32::from(now.wrapping_sub(self.last_check)) >= LIVENESS_PERIOD_MS;
         if paced || age >= LIVENESS_MAX_AGE_MS {
             self.last_check = now;
-            self.check = Some(d);
+            self.check = d;
             return Some((Action::ReadStatus { device: d }, Job::Check));
         }
         None
@@ -377,10 +386,10 @@ impl Schedule {
         }
         match self.health.failed(device, at) {
             Miss::Ignored => {}
-            Miss::Recheck => self.recheck = Some(device),
+            Miss::Recheck => self.recheck = device,
             Miss::Silent => {
-                if self.recheck == Some(device) {
-                    self.recheck = None;
+                if self.recheck == device {
+                    self.recheck = 0;
                 }
                 let e = MasterException {
                     kind: ExceptionType::SlaveSilent,
@@ -390,6 +399,14 @@ impl Schedule {
                 self.raise(e, latch);
             }
         }
+    }
+}
+
+/// The slave in `slot` (0 for none), leaving none.
+fn take_slave(slot: &mut u8) -> Option<u8> {
+    match core::mem::take(slot) {
+        0 => None,
+        d => Some(d),
     }
 }
 
@@ -404,5 +421,23 @@ fn ping_action(device: u8, stage: PingStage) -> Action {
         PingStage::Ping => Action::WriteReg(RegWrite::byte(device, id::REG_PING, 0)),
         PingStage::Status => Action::ReadStatus { device },
         PingStage::ExceptionData => Action::ReadExceptionData { device },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Spread;
+
+    #[test]
+    fn a_spread_counts_down_through_slaves_1_to_9_but_one_and_zero_is_none() {
+        for except in 0..=10u8 {
+            let mut s = Spread::to_all_but(except);
+            let got: std::vec::Vec<u8> = core::iter::from_fn(|| s.take()).collect();
+            let want: std::vec::Vec<u8> = (1..=9).filter(|&d| d != except).collect();
+            assert_eq!(got, want, "{except}");
+            assert_eq!(s.take(), None);
+        }
+        let mut none = Spread { left: 0, except: 0 };
+        assert_eq!(none.take(), None);
     }
 }

@@ -14,7 +14,7 @@ pub mod input;
 pub mod setup;
 pub mod steer;
 
-pub use input::{normalise, PulseTimer, CHANNELS};
+pub use input::{normalise, within_band, PulseTimer, CHANNELS};
 pub use setup::{LinkUpWrites, DS_CONTROLLERS, LINK_UP_WRITES};
 
 use crate::master::ping::RegWrite;
@@ -110,6 +110,25 @@ pub fn angle_raw(cdeg: i16) -> u16 {
     (u32::from(x) * 32767 / SPAN as u32) as u16
 }
 
+/// [`speed_raw_of`] for a drive within ±1000, the only drives [`Remote::pass`] gives
+/// (from [`normalise`]): the same steps without the clamp (a host test checks every
+/// drive in range). Outside the range the value is meaningless.
+pub fn speed_raw_in_range(drive: i16) -> u16 {
+    const SPAN: u16 = 40_000;
+    let tenths = drive.wrapping_mul((MAX_SPEED / 100) as i16);
+    let x = (tenths as u16).wrapping_add(SPAN);
+    (u32::from(x) * 32767 / u32::from(SPAN)) as u16
+}
+
+/// [`angle_raw`] for an angle within ±200°, which every steer angle of a pass is (within
+/// the integrator's ±30°): the same steps without the clamp (a host test checks every
+/// angle in range). Outside the range the value is meaningless.
+pub fn angle_raw_in_range(cdeg: i16) -> u16 {
+    const SPAN: u16 = 200 * 100;
+    let x = (cdeg as u16).wrapping_add(SPAN);
+    (u32::from(x) * 32767 / u32::from(SPAN)) as u16
+}
+
 /// The master's remote-control state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Remote {
@@ -151,11 +170,17 @@ impl Remote {
     /// Whether the link is up at `now_ms`: an edge was seen less than 1 s ago. Call it
     /// every pass: an edge older than 1 s is forgotten, so the wrap of the 16-bit time
     /// stamp (every 65.5 s) cannot bring a dead link back.
+    pub fn link_up(&mut self, now_ms: u32) -> bool {
+        self.link_up_at(now_ms as u16)
+    }
+
+    /// [`Remote::link_up`] on the clock's low 16 bits, which is all it looks at (what the
+    /// firmware's 16-bit clock passes).
     // Out of line: idle's look at the link and the pass's both use it (one copy).
     #[inline(never)]
-    pub fn link_up(&mut self, now_ms: u32) -> bool {
+    pub fn link_up_at(&mut self, now_ms: u16) -> bool {
         match self.last_edge_ms {
-            Some(t) if (now_ms as u16).wrapping_sub(t) < LINK_TIMEOUT_MS => true,
+            Some(t) if now_ms.wrapping_sub(t) < LINK_TIMEOUT_MS => true,
             _ => {
                 self.last_edge_ms = None;
                 false
@@ -200,12 +225,12 @@ impl Remote {
             *value = width.and_then(|w| normalise(c, w)).unwrap_or(0);
         }
         let [drive, steer, mode] = values;
-        let drive = if drive.abs() < DRIVE_DEADBAND {
+        let drive = if within_band(drive, DRIVE_DEADBAND) {
             0
         } else {
             drive
         };
-        let steer = if steer.abs() < STEER_DEADBAND {
+        let steer = if within_band(steer, STEER_DEADBAND) {
             0
         } else {
             steer
@@ -279,6 +304,27 @@ mod tests {
         assert_eq!(speed_raw_of(-1000), 22117);
         // Beyond ±1000 (which `normalise` never gives) the drive saturates.
         assert_eq!(speed_raw_of(i16::MAX), speed_raw_of(1000));
+    }
+
+    #[test]
+    fn within_their_ranges_the_clamp_free_mappings_are_the_clamped_ones() {
+        for drive in -1000..=1000i16 {
+            assert_eq!(speed_raw_in_range(drive), speed_raw_of(drive), "{drive}");
+        }
+        for cdeg in -20_000..=20_000i16 {
+            assert_eq!(angle_raw_in_range(cdeg), angle_raw(cdeg), "{cdeg}");
+        }
+        assert_eq!(speed_raw_in_range(-1000), 22117);
+        assert_eq!(angle_raw_in_range(3000), 37682);
+        // Every angle of a pass is within the range: the integrator's limit is ±30°.
+        let mut r = Remote::new();
+        r.pulse(1, 940);
+        for _ in 0..1200 {
+            for a in r.pass().angles {
+                assert!(a.unsigned_abs() <= 3000, "{a}");
+            }
+        }
+        assert_eq!(r.steer_udeg(), -steer::STEER_LIMIT_UDEG);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use super::{LinkError, LocalRegisters};
 use crate::protocol::sizes::Sizes;
-use crate::protocol::{Frame, FrameError, ReadSets, Rejected, Writes};
+use crate::protocol::{Frame, ReadSets, Rejected, Writes};
 
 /// The slave answered nothing (no ACK, or no data).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -68,12 +68,12 @@ impl Service {
                         reply(ids.len() as u8);
                         Ok(())
                     }
-                    Err(e) => Err(LinkError::Frame(e)),
+                    Err(e) => Err(LinkError::of_frame(e)),
                 },
                 true,
             ),
             Err(r) => (
-                Err(LinkError::Frame(r.error)),
+                Err(LinkError::of_frame(r.error)),
                 matches!(r.header.map(|h| h & 0x0f), Some(2) | Some(4)),
             ),
         };
@@ -102,7 +102,7 @@ impl Service {
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
         if Sizes::of_device(device).is_none() {
-            return Err(LinkError::Frame(FrameError::BadDevice));
+            return Err(LinkError::BadDevice);
         }
         if writes.any_read_only() {
             return Err(LinkError::ReadOnly);
@@ -133,20 +133,18 @@ impl Service {
         bus: &mut impl SlaveBus,
         reply: &mut impl FnMut(u8),
     ) -> Result<(), LinkError> {
-        let kind = Sizes::of_device(device).ok_or(LinkError::Frame(FrameError::BadDevice))?;
-        let ids = sets
-            .get(set)
-            .ok_or(LinkError::Frame(FrameError::BadReadSet))?;
+        let kind = Sizes::of_device(device).ok_or(LinkError::BadDevice)?;
+        let ids = sets.get(set).ok_or(LinkError::BadReadSet)?;
         if ids.is_empty() {
             return Err(LinkError::EmptyReadSet);
         }
         let mut missing = false;
         let mut rest = ids;
-        while let [first, ..] = rest {
+        while let [first, tail @ ..] = rest {
             let Some(size) = kind.size_of(*first) else {
                 reply(MISSING_REGISTER_BYTE);
                 missing = true;
-                rest = &rest[1..];
+                rest = tail;
                 continue;
             };
             if device == 0 {
@@ -158,13 +156,14 @@ impl Service {
                 if size >= 2 {
                     reply(hi);
                 }
-                rest = &rest[1..];
+                rest = tail;
                 continue;
             }
             let (count, bytes) = run_of(kind, rest);
             bus.read_run(device, *first, bytes, reply)
                 .map_err(|_| LinkError::NoAnswer)?;
-            rest = &rest[count..];
+            // `count` ≤ the ids left (run_of counts ids of `rest`).
+            rest = rest.get(count..).unwrap_or_default();
         }
         if missing {
             Err(LinkError::MissingRegister)

@@ -1,7 +1,7 @@
 //! The master's frame logic against a fake I2C bus, fed through the real parser.
 
 use super::*;
-use crate::protocol::{FrameError, Parser};
+use crate::protocol::Parser;
 use crate::regs::id;
 use std::vec::Vec;
 
@@ -194,18 +194,12 @@ fn bad_device_write_answers_an_error_and_a_bad_device_read_answers_nothing() {
 fn unknown_command_and_short_lengths_are_recorded_and_answered_only_if_a_write() {
     let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(run(&mut s, &mut bus, &[0x03, 0x15, 0x00]), [0u8; 0]);
-    assert_eq!(
-        s.local.last_error(),
-        Some(LinkError::Frame(FrameError::UnknownCommand))
-    );
+    assert_eq!(s.local.last_error(), Some(LinkError::UnknownCommand));
     assert_eq!(run(&mut s, &mut bus, &[0x00]), [0u8; 0]);
     // L = 2 with a write header: a write's one-byte reply can carry the error.
     assert_eq!(run(&mut s, &mut bus, &[0x02, 0x12]), [0x81]);
     assert_eq!(run(&mut s, &mut bus, &[0x02, 0x13]), [0u8; 0]);
-    assert_eq!(
-        s.local.last_error(),
-        Some(LinkError::Frame(FrameError::BadLength))
-    );
+    assert_eq!(s.local.last_error(), Some(LinkError::BadLength));
     assert_eq!(s.local.error_count(), 4);
 }
 
@@ -261,8 +255,7 @@ fn garbage_then_abort_then_a_valid_frame_is_answered() {
         parser.abort(),
         "the inter-byte timeout drops the partial frame"
     );
-    s.service
-        .link_error(LinkError::Frame(FrameError::Truncated));
+    s.service.link_error(LinkError::Truncated);
     for &b in &[0x05u8, 0x02, 0x01, 0x00, 0x01] {
         if let Some(f) = parser.push_frame(b) {
             s.service

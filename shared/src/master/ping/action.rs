@@ -46,7 +46,10 @@ impl RegWrite {
 
     /// The value bytes as they go on the wire after the id, LSB first.
     pub fn bytes(&self) -> &[u8] {
-        &self.value[..usize::from(self.len)]
+        // `len` is 1 or 2 (the constructors set it).
+        self.value
+            .get(..usize::from(self.len))
+            .unwrap_or(&self.value)
     }
 
     /// The value as a number.

@@ -17,6 +17,13 @@ crate::flash_table! {
 /// |value| below this (0.1) reads as 0.
 pub const INPUT_DEADBAND: i16 = 100;
 
+/// Whether |`v`| < `band` (for a band of 1..=16 384), as one unsigned comparison: v is
+/// inside exactly when v + band − 1 lands in 0..=2·band − 2, and every other v lands
+/// above that in 16-bit wrapping arithmetic.
+pub const fn within_band(v: i16, band: i16) -> bool {
+    (v as u16).wrapping_add(band as u16 - 1) < 2 * band as u16 - 1
+}
+
 /// A channel's normalised value in thousandths:
 /// clamp((w − mn)·2/(mx − mn), 0, 2) − 1, then |value| < 0.1 → 0. `None` for a channel
 /// number above 2.
@@ -37,7 +44,7 @@ pub fn normalise(channel: usize, width_us: u16) -> Option<i16> {
         Some(d) => (u32::from(d) * 2000 / u32::from(span)) as i16,
     };
     let value = scaled - 1000;
-    Some(if value.abs() < INPUT_DEADBAND {
+    Some(if within_band(value, INPUT_DEADBAND) {
         0
     } else {
         value
@@ -163,6 +170,20 @@ mod tests {
             }
         }
         assert!(pulses > 1000, "{pulses}");
+    }
+
+    #[test]
+    fn within_band_is_the_absolute_value_below_the_band_for_every_value() {
+        for band in [1, 2, 100, 200, 300, 750, 16_384] {
+            for v in i16::MIN..=i16::MAX {
+                assert_eq!(
+                    within_band(v, band),
+                    v.unsigned_abs() < band as u16,
+                    "{v} {band}"
+                );
+            }
+        }
+        assert!(within_band(-99, 100) && !within_band(-100, 100) && !within_band(100, 100));
     }
 
     #[test]

@@ -6,8 +6,7 @@
 //! test maps the engineering values with `mapping::map` and checks each one.
 
 use crate::master::ping::RegWrite;
-use crate::protocol::sizes::Sizes;
-use crate::regs::{id, BoardKind};
+use crate::regs::{id, DS};
 
 /// The drive/steer controllers of wheels 1..6.
 pub const DS_CONTROLLERS: [u8; 6] = [1, 2, 4, 5, 7, 8];
@@ -54,25 +53,32 @@ crate::flash_table! {
 /// Writes per board from the two blocks.
 const BLOCKS: usize = DRIVE_BLOCK.len() + STEER_BLOCK.len();
 
-/// [`DRIVE_BLOCK`] then [`STEER_BLOCK`], as one table.
-const fn both_blocks() -> [(u8, u16); BLOCKS] {
-    let mut out = [(0, 0); BLOCKS];
+/// [`DRIVE_BLOCK`] then [`STEER_BLOCK`], as one table of (id, size, raw value), each
+/// register's size taken from the drive/steer table at compile time: the firmware reads
+/// a write whole, with no size lookup.
+const fn both_blocks() -> [(u8, u8, u16); BLOCKS] {
+    let mut out = [(0, 0, 0); BLOCKS];
     let mut i = 0;
     while i < BLOCKS {
-        out[i] = if i < DRIVE_BLOCK.len() {
+        let (reg, raw) = if i < DRIVE_BLOCK.len() {
             DRIVE_BLOCK[i]
         } else {
             STEER_BLOCK[i - DRIVE_BLOCK.len()]
         };
+        out[i] = (reg, DS[reg as usize].size, raw);
         i += 1;
     }
     out
 }
 
 crate::flash_table! {
-    /// [`DRIVE_BLOCK`] then [`STEER_BLOCK`], kept in flash on the AVR.
-    static BLOCKS_FLASH: [(u8, u16); BLOCKS] = both_blocks();
+    /// [`DRIVE_BLOCK`] then [`STEER_BLOCK`] with their sizes, kept in flash on the AVR.
+    static BLOCKS_FLASH: [(u8, u8, u16); BLOCKS] = both_blocks();
 }
+
+// The calibration registers take one byte each, as their values do.
+const _: () = assert!(DS[id::REGDS_STEER_CALIBMIN as usize].size == 1);
+const _: () = assert!(DS[id::REGDS_STEER_CALIBMAX as usize].size == 1);
 
 crate::flash_table! {
     /// [`STEER_CALIBRATION`], kept in flash on the AVR.
@@ -118,21 +124,22 @@ impl LinkUpWrites {
         let wheel = usize::from(self.wheel);
         let device = DS_CONTROLLERS_FLASH.get(wheel)?;
         let item = usize::from(self.item);
-        let (reg, raw) = if let Some(w) = BLOCKS_FLASH.get(item) {
-            w
-        } else {
-            let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
-            if item == PER_BOARD - 2 {
-                (id::REGDS_STEER_CALIBMIN, u16::from(min))
-            } else {
-                (id::REGDS_STEER_CALIBMAX, u16::from(max))
+        let (reg, size, raw) = match BLOCKS_FLASH.get(item) {
+            Some(w) => w,
+            None => {
+                let (min, max) = STEER_CALIBRATION_FLASH.get(wheel)?;
+                if item == PER_BOARD - 2 {
+                    (id::REGDS_STEER_CALIBMIN, 1, u16::from(min))
+                } else {
+                    (id::REGDS_STEER_CALIBMAX, 1, u16::from(max))
+                }
             }
         };
-        // Every device here is a drive/steer board: its table sizes the value.
-        match Sizes::of(BoardKind::DriveSteer).size_of(reg)? {
-            1 => Some(RegWrite::byte(device, reg, raw as u8)),
-            _ => Some(RegWrite::word(device, reg, raw)),
-        }
+        Some(if size == 1 {
+            RegWrite::byte(device, reg, raw as u8)
+        } else {
+            RegWrite::word(device, reg, raw)
+        })
     }
 }
 

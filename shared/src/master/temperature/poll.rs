@@ -54,7 +54,8 @@ impl Sensors {
 
     /// The devices found, in search order.
     pub fn roms(&self) -> &[Rom] {
-        &self.roms[..usize::from(self.count)]
+        // `count` ≤ the slots (`push` stops there).
+        self.roms.get(..usize::from(self.count)).unwrap_or_default()
     }
 
     /// The ROM of sensor `sensor` (0 = ambient, n = controller n), if a device with its
@@ -64,6 +65,9 @@ impl Sensors {
     }
 
     /// As [`Sensors::locate`], without copying the ROM.
+    // Out of line: a tick's start and its read and conversion steps all look sensors up
+    // (one copy).
+    #[inline(never)]
     pub fn find(&self, sensor: u8) -> Option<&Rom> {
         let byte1 = SENSOR_ROM_BYTE1_FLASH.get(usize::from(sensor))?;
         self.roms().iter().find(|rom| rom[1] == byte1)
@@ -169,8 +173,14 @@ impl Poller {
                 missing: Some(0),
             };
         }
-        let read_id = self.next % count;
-        let convert_id = (read_id + 1) % count;
+        // `next % count` and `(read_id + 1) % count` by subtraction: `next` is below
+        // `count` whenever the sensors stay the same, so the loop rarely runs, and the
+        // firmware needs no division routine.
+        let mut read_id = self.next;
+        while read_id >= count {
+            read_id -= count;
+        }
+        let convert_id = if read_id + 1 == count { 0 } else { read_id + 1 };
         self.next = convert_id;
         let on_bus = |id: u8| sensors.find(id).map(|_| id);
         let read = on_bus(read_id);
@@ -230,5 +240,24 @@ mod tests {
         assert_eq!(seen, [0, 0, 4]);
         let empty = Poller::new().plan(&Sensors::new());
         assert_eq!((empty.read, empty.missing), (None, Some(0)));
+    }
+
+    #[test]
+    fn the_ids_are_the_polling_position_modulo_the_count_from_any_position() {
+        for count in 1..=10u8 {
+            let mut sensors = Sensors::new();
+            for n in 0..count {
+                assert!(sensors.push(rom_of(usize::from(n))));
+            }
+            for next in 0..=u8::MAX {
+                let mut p = Poller { next };
+                let plan = p.plan(&sensors);
+                let read = next % count;
+                let convert = (read + 1) % count;
+                assert_eq!(plan.read, Some(read), "{count} {next}");
+                assert_eq!(plan.convert, Some(convert), "{count} {next}");
+                assert_eq!(p.next(), convert);
+            }
+        }
     }
 }
