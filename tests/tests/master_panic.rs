@@ -1,6 +1,6 @@
 //! The master's panic path in the real image: running (pinging its nine slave models), the
-//! CPU is sent to `panic_bounds_check`, the entry a failed bounds check takes into the
-//! panic handler (its mangled name looked up in the ELF). What a user sees: interrupts
+//! CPU is sent to `__vector_default`, where an unbound interrupt lands and which runs the
+//! panic handler's halt (looked up in the ELF). What a user sees: interrupts
 //! off, LED D13 lit, then the 125-ms watchdog reboots the master, which sends the banner
 //! again and hard-resets every slave (`00 02`), which stops every motor.
 
@@ -27,7 +27,7 @@ fn a_panic_freezes_the_master_and_its_reboot_hard_resets_every_slave() {
     {
         let mut avr = rig.avr();
         let (name, entry) = avr
-            .symbol_containing("panic_bounds_check")
+            .symbol_containing("__vector_default")
             .expect("the panic entry is in the image");
         println!("panic entry {name} at {entry:#06x}");
         while avr.state() == CpuState::Sleeping {

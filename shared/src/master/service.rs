@@ -178,12 +178,14 @@ impl Service {
 fn run_of(kind: Sizes, ids: &[u8]) -> (usize, u8) {
     let mut count = 0;
     let mut bytes = 0u8;
-    for (i, &id) in ids.iter().enumerate() {
-        let follows = i == 0 || ids[i - 1].checked_add(1) == Some(id);
+    // The id that continues the run (none after 255); the first id always does.
+    let mut next = ids.first().copied();
+    for &id in ids {
         match kind.size_of(id) {
-            Some(size) if follows => {
+            Some(size) if next == Some(id) => {
                 count += 1;
                 bytes = bytes.saturating_add(size);
+                next = id.checked_add(1);
             }
             _ => break,
         }
