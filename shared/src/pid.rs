@@ -45,17 +45,21 @@ fn mul_nonzero(a: Fix, b: Fix) -> Fix {
     let (ah, al) = ((ua >> 16) as u16, ua as u16);
     let (bh, bl) = ((ub >> 16) as u16, ub as u16);
     // |a·b| in 16.16 = ah·bh·2^16 + ah·bl + al·bh + al·bl/2^16, with ah, bh ≤ 2^15.
-    let high = wide(ah, bh);
+    // Each of the four products once: the two both cases need first.
+    // ah·bl + al·bl/2^16 ≤ 2^15·(2^16 − 1) + 2^16 − 1 < 2^32, no overflow.
+    let low = wide(ah, bl) + (wide(al, bl) >> 16);
     let magnitude = if bh == 0 {
-        // |b| < 1: ah·bl + al·bl/2^16 ≤ 2^15·(2^16 − 1) + 2^16 − 1 < 2^32, no overflow.
-        Some(wide(ah, bl) + (wide(al, bl) >> 16))
-    } else if high > 0x7fff {
-        None
+        // |b| < 1: the two products are all of it.
+        Some(low)
     } else {
-        (high << 16)
-            .checked_add(wide(ah, bl))
-            .and_then(|m| m.checked_add(wide(al, bh)))
-            .and_then(|m| m.checked_add(wide(al, bl) >> 16))
+        let high = wide(ah, bh);
+        if high > 0x7fff {
+            None
+        } else {
+            (high << 16)
+                .checked_add(low)
+                .and_then(|m| m.checked_add(wide(al, bh)))
+        }
     };
     let limit = if negative {
         1u32 << 31
@@ -228,6 +232,15 @@ impl Step {
     }
 }
 
+/// The two forms of [`Pid`]'s update.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Form {
+    /// u = P·e + Ki·I + Kd·D.
+    Position,
+    /// u = u_prev + P·e + Ki·I + Kd·D, bled while there is no demand.
+    Speed,
+}
+
 /// The state of one PID controller between updates.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Pid {
@@ -258,9 +271,26 @@ impl Pid {
     /// a motor holding its angle, the usual case) every term is 0 and stays 0, so the
     /// update returns [`Step::REST`] without the integral and derivative arithmetic;
     /// the result is the same as the full update's (tested).
+    #[inline(always)]
     pub fn position(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
+        self.update(Form::Position, gains, required, actual)
+    }
+
+    /// One update of the incremental speed form: u = u_prev + P·e + Ki·I + Kd·D, then
+    /// ×0.96 while |r| < 0.001.
+    #[inline(always)]
+    pub fn speed(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
+        self.update(Form::Speed, gains, required, actual)
+    }
+
+    /// Both forms in one routine: they differ only in the rest path and in how u is made
+    /// from the terms' sum, so a board with both (drive/steer) carries one copy of the
+    /// rest. A board with one form (lift/lift) gets it specialised.
+    #[inline(never)]
+    fn update(&mut self, form: Form, gains: &Gains, required: Fix, actual: Fix) -> Step {
         let error = dead_zoned(gains, required, actual);
-        if error == Fix::ZERO
+        if form == Form::Position
+            && error == Fix::ZERO
             && self.integral == Fix::ZERO
             && self.prev_actual == actual
             && gains.cap >= Fix::ZERO
@@ -269,22 +299,18 @@ impl Pid {
             return Step::REST;
         }
         let (integral, deriv) = self.terms(gains, error, actual);
-        let control = sum_terms(gains, error, integral, deriv);
-        self.control = control;
-        step(error, integral, deriv, control)
-    }
-
-    /// One update of the incremental speed form: u = u_prev + P·e + Ki·I + Kd·D, then
-    /// ×0.96 while |r| < 0.001.
-    pub fn speed(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
-        let error = dead_zoned(gains, required, actual);
-        let (integral, deriv) = self.terms(gains, error, actual);
-        let mut control = self
-            .control
-            .add_sat(sum_terms(gains, error, integral, deriv));
-        if below(required, NO_DEMAND) {
-            control = mul(control, BLEED);
-        }
+        let sum = sum_terms(gains, error, integral, deriv);
+        let control = match form {
+            Form::Position => sum,
+            Form::Speed => {
+                let control = self.control.add_sat(sum);
+                if below(required, NO_DEMAND) {
+                    mul(control, BLEED)
+                } else {
+                    control
+                }
+            }
+        };
         self.control = control;
         step(error, integral, deriv, control)
     }

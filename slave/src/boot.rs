@@ -9,7 +9,7 @@ use drivers::timebase::Timebase;
 use drivers::twi_slave::TwiSlave;
 use drivers::watchdog::{Timeout, Watchdog};
 use executor::Device;
-use shared::slave::{Board, Core, EdgeCounter, Variant};
+use shared::slave::{bus_address, Board, EdgeCounter, Variant};
 
 use crate::clock::Clock;
 use crate::encoder::Encoder;
@@ -40,8 +40,9 @@ pub struct Parts<B: Board> {
     pub sampler: Sampler,
     /// The encoder pins.
     pub encoder: Encoder,
-    /// The board's logic.
-    pub core: Core<B>,
+    /// EEPROM byte 0, the board's address: the control task hands it to the logic, which
+    /// is built at compile time.
+    pub eeprom_byte: u8,
     /// Pins, PWM and watchdog.
     pub stage: Stage,
     /// Timer0, kept running.
@@ -63,8 +64,9 @@ pub fn init<B: Board>(dp: Device, board: B) -> Parts<B> {
         (Stage::new(pwm, watchdog), Encoder::new())
     };
     stage.boot();
-    let core = Core::new(board, Eeprom::new(dp.EEPROM).read(0));
-    let twi = core.address().map(|addr| TwiSlave::new(dp.TWI, addr));
+    let eeprom_byte = Eeprom::new(dp.EEPROM).read(0);
+    // The same address the logic takes from the byte (`Core::set_eeprom`).
+    let twi = bus_address(eeprom_byte).map(|addr| TwiSlave::new(dp.TWI, addr));
     let (timebase, stamp) = Timebase::start(dp.TC0);
     Parts {
         regs: Registers::new(board),
@@ -73,7 +75,7 @@ pub fn init<B: Board>(dp: Device, board: B) -> Parts<B> {
         twi,
         sampler: Sampler::start(Adc::new(dp.ADC)),
         encoder,
-        core,
+        eeprom_byte,
         stage,
         timebase,
         changes: PortDChanges::new(dp.EXINT, encoder_mask(variant)),

@@ -56,7 +56,7 @@ macro_rules! firmware {
                 twi_port: Option<TwiSlave>,
                 sampler: Sampler,
                 encoder: Encoder,
-                core: Core<$board>,
+                eeprom: Option<u8>,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -77,7 +77,10 @@ macro_rules! firmware {
             #[task(binds = ADC, priority = 2, shared = [regs], local = [sampler])]
             fn sample;
 
-            #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock], local = [core, stage])]
+            // The logic is built at compile time (initial data, not stores at boot); the
+            // first tick gives it its address.
+            #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock],
+                   local = [eeprom, stage], const_local = [core: Core<$board> = Core::<$board>::POWER_UP])]
             fn control;
         }
 
@@ -93,7 +96,7 @@ macro_rules! firmware {
                     twi_port: p.twi,
                     sampler: p.sampler,
                     encoder: p.encoder,
-                    core: p.core,
+                    eeprom: Some(p.eeprom_byte),
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -126,6 +129,11 @@ macro_rules! firmware {
             let now_us = cx.shared.clock.lock(|c| c.now_us());
             let edges = cx.shared.edges.lock(|e| e.take());
             let core = &mut *cx.local.core;
+            if let Some(byte) = *cx.local.eeprom {
+                // The first tick only (a load and a branch on the others).
+                core.set_eeprom(byte);
+                *cx.local.eeprom = None;
+            }
             // One lock for everything the priority-2 tasks fill.
             let (adc, changes, addressed) = cx
                 .shared

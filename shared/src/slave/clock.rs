@@ -58,11 +58,9 @@ impl Clock {
     /// The first call: `now_us` from a clock at 0, as one long gap ([`Clock::skip`]).
     #[inline(never)]
     fn begin(&mut self, now_us: u32) {
-        *self = Clock {
-            started: true,
-            last_us: now_us,
-            ..Clock::new()
-        };
+        // Every other field is still as `new` made it: only `advance` changes them.
+        self.started = true;
+        self.last_us = now_us;
         self.skip(now_us);
     }
 

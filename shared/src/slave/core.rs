@@ -26,28 +26,42 @@
 //! drive/steer tick without a controller update takes about 1,170 cycles (73 µs); a
 //! position update at rest (the same pot reading, every term 0: see [`Motor::holds`])
 //! about 320 more, 530 when its monitoring values are due; a moving position update
-//! about 2,000 more; a drive update (window mode, every 150 ms) about 4,600 more. Drive
-//! at 1000 ticks/s and the steer settled: mean 1,400, max 6,100 cycles a tick (9 % of
-//! the CPU); the steer moving: mean 2,310, max 7,600–7,900 (15 %). A lift/lift board with
-//! both lifts working updates one of them every tick: about 2,940 cycles a tick (19 %).
-//! Flash: 15,748 B (drive/steer), 13,452 B (lift/lift). Every saturating operation off
+//! about 2,000 more; a drive update (window mode, every 150 ms) about 4,600 more (these
+//! four as the previous round measured them; the one PID routine has since added some
+//! 400 to the drive update, see the maximum below). Drive at 1000 ticks/s and the steer
+//! settled: mean 1,393, max 6,450 cycles a tick (9 % of the CPU); the steer moving: mean
+//! 2,330, max 7,850 (15 %). A lift/lift board with both lifts working updates one of
+//! them every tick: mean 3,044 cycles a tick (19 %). Flash: 14,102 B (drive/steer),
+//! 12,220 B (lift/lift); static RAM 540 B, stack 191 B. Every saturating operation off
 //! the per-update path is one out-of-line copy ([`crate::pid`]'s `Saturating`); on it,
 //! magnitudes are compared inline without saturation (the result is the same), since a
-//! call there costs the moving figures some 50 cycles a tick. Measured and dropped: the
-//! parameter and monitoring scales as tables in flash and one mapping loop (each image
-//! 100 B larger: reading a 10-byte scale from flash takes more code than the constants
-//! it replaces, and the value array costs stores). What
-//! keeps the common tick short: each motor's two current filters share one step while
-//! they agree, the LED levels are kept until a deadline or the exception latch changes
-//! them, a pot reading equal to the last one reuses its angle, a motor's monitoring
-//! values are remapped only where they changed, and 32-bit products are built from the
-//! hardware multiplier ([`super::product`]).
+//! call there costs the moving figures some 50 cycles a tick. What keeps the image
+//! small: the core's power-up state is compile-time data (`Core::POWER_UP`), copied
+//! with the rest of `.data` at reset rather than stored field by field; the two PID
+//! forms are one routine ([`crate::pid::Pid`]), which the lift image gets specialised;
+//! the LED, bus-silence and CHASSIS deadlines are 16-bit ms (each is checked often
+//! enough that the wrap never shows); a write finds its motor by one compare (M2's
+//! registers follow M1's). Measured and dropped: the parameter and monitoring scales as
+//! tables in flash and one mapping loop (each image 100 B larger: reading a 10-byte
+//! scale from flash takes more code than the constants it replaces, and the value array
+//! costs stores); the current filters out of line (140 B smaller, 127 cycles a tick
+//! more); the three PID terms as a loop (30 B smaller, 75–95 cycles more on the
+//! lift/lift board); a motor's update or its fault check out of line (larger); the
+//! drive's update without the hold check (46 B smaller, its maximum 400 cycles longer);
+//! the motors' power-up state copied from a flash template (1.3 KB larger). What keeps
+//! the common tick short: each motor's two current filters share one step while they
+//! agree, the LED levels are kept until a deadline or the exception latch changes them,
+//! a pot reading equal to the last one reuses its angle, a motor's monitoring values are
+//! remapped only where they changed, and 32-bit products are built from the hardware
+//! multiplier ([`super::product`]).
 //!
 //! **Variant at build time.** `Core<B: Board>`: the firmware builds with a zero-sized
 //! board type, so every `match` on the variant and on a motor's [`Kind`] folds away and
 //! the lift image carries no drive code; host tests use [`Variant`] itself.
 
-use super::board::{bus_address, Board, Layout, Monitor, MotorId, Variant};
+use super::board::{
+    bus_address, Board, DriveSteerBoard, Layout, LiftLiftBoard, Monitor, MotorId, Variant,
+};
 use super::clock::Clock;
 use super::encoder::{DriveMode, Odometer, SpeedMeter};
 use super::fault::FAULT_TIME_POWER_ON_MS;
@@ -69,7 +83,7 @@ pub const POSITION_PERIOD_US: u32 = 2_000;
 /// REGDS_CHASSIS: the raw ADC7 reading mapped over 0..1024.
 const CHASSIS: Scale = Scale::of(&DS, id::REGDS_CHASSIS);
 /// REGDS_CHASSIS is refreshed this often, ms.
-const CHASSIS_PERIOD_MS: u32 = 10;
+const CHASSIS_PERIOD_MS: u16 = 10;
 
 /// What the bus asked for that takes effect in [`Core::step`].
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
@@ -101,8 +115,24 @@ pub struct Core<B: Board = Variant> {
     odometer: Odometer,
     /// REGDS_CHASSIS, raw.
     chassis: u16,
-    chassis_at_ms: u32,
+    /// When it was mapped: the ms clock's low 16 bits (checked every tick, so the
+    /// 16-bit difference never wraps unseen).
+    chassis_at_ms: u16,
     pending: Pending,
+}
+
+impl Core<DriveSteerBoard> {
+    /// A drive/steer board at power-up without its address ([`Core::set_eeprom`] sets
+    /// it): built at compile time, so the firmware keeps it as initial data rather than
+    /// storing it field by field at boot.
+    pub const POWER_UP: Core<DriveSteerBoard> =
+        Core::build(DriveSteerBoard, Variant::DriveSteer, None);
+}
+
+impl Core<LiftLiftBoard> {
+    /// A lift/lift board at power-up without its address ([`Core::set_eeprom`] sets
+    /// it), built at compile time.
+    pub const POWER_UP: Core<LiftLiftBoard> = Core::build(LiftLiftBoard, Variant::LiftLift, None);
 }
 
 impl<B: Board> Core<B> {
@@ -112,10 +142,23 @@ impl<B: Board> Core<B> {
     /// enable the TWI (see [`Core::address`]), and every tick stops the motors and shows
     /// the bad-address LED pattern.
     pub fn new(board: B, eeprom_byte: u8) -> Core<B> {
-        let variant = board.variant();
+        Core::build(board, board.variant(), bus_address(eeprom_byte))
+    }
+
+    /// Sets the address from EEPROM byte 0, as [`Core::new`] does: for a core built at
+    /// compile time (`Core::POWER_UP`), before its first tick.
+    pub fn set_eeprom(&mut self, eeprom_byte: u8) {
+        self.address = bus_address(eeprom_byte);
+    }
+
+    /// [`Core::new`] for `variant` (the board's) and `address`, in a `const` context.
+    const fn build(board: B, variant: Variant, address: Option<u8>) -> Core<B> {
+        // One motor built and copied: the two differ only in their kind.
+        let mut motors = [Motor::new(Kind::Position); 2];
+        motors[0].kind = Kind::of(variant, MotorId::M1);
         Core {
             board,
-            address: bus_address(eeprom_byte),
+            address,
             state: State::POWER_UP,
             disabled: 0,
             fault_time_ms: FAULT_TIME_POWER_ON_MS,
@@ -124,10 +167,7 @@ impl<B: Board> Core<B> {
             drive_mode: DriveMode::Window,
             clock: Clock::new(),
             leds: Leds::new(0),
-            motors: [
-                Motor::new(Kind::of(variant, MotorId::M1)),
-                Motor::new(Kind::of(variant, MotorId::M2)),
-            ],
+            motors,
             next_position_us: [0; 2],
             speed: SpeedMeter::new(0),
             odometer: Odometer::new(),
@@ -222,7 +262,7 @@ impl<B: Board> Core<B> {
                 if let Some(event) = bits.event() {
                     self.state.handle(event, self.disabled);
                 }
-                if bits.zero_odometer() {
+                if bits.zero_odometer() && self.variant().has_drive() {
                     self.odometer.clear();
                 }
             }
@@ -238,12 +278,11 @@ impl<B: Board> Core<B> {
                 self.drive_mode = DriveMode::from_register(raw)
             }
             _ => {
-                for motor in MotorId::BOTH {
-                    let layout = Layout::of(self.variant(), motor);
-                    if let Some(param) = layout.param(reg) {
-                        let m = &mut self.motors[motor.index()];
-                        m.set_param(Kind::of(self.board.variant(), motor), param, raw);
-                    }
+                // M2's registers all follow M1's (tested), so one lookup finds the motor.
+                let motor = motor_of(self.variant(), reg);
+                if let Some(param) = Layout::of(self.variant(), motor).param(reg) {
+                    let m = &mut self.motors[motor.index()];
+                    m.set_param(Kind::of(self.board.variant(), motor), param, raw);
                 }
             }
         }
@@ -268,21 +307,13 @@ impl<B: Board> Core<B> {
         let first = self.clock.advance(now_us);
         let now_ms = self.clock.ms();
         let Some(address) = self.address else {
-            return Outputs {
-                motors: [MotorOutput::Stop; 2],
-                leds: leds::bad_address(now_ms),
-                watchdog: Watchdog::Feed,
-            };
+            return Outputs::stopped(leds::bad_address(now_ms), Watchdog::Feed);
         };
         if first {
             self.start(now_us, now_ms);
         }
         if let State::Restarting { .. } = self.state {
-            return Outputs {
-                motors: [MotorOutput::Stop; 2],
-                leds: LedLevels::OFF,
-                watchdog: Watchdog::Reset,
-            };
+            return Outputs::stopped(LedLevels::OFF, Watchdog::Reset);
         }
         self.take_pending(now_ms);
         if matches!(self.state, State::Running { .. })
@@ -298,9 +329,10 @@ impl<B: Board> Core<B> {
         if self.variant().has_drive() {
             self.odometer.add(inputs.edges.rising);
             self.speed.accumulate(&inputs.edges);
-            if now_ms.wrapping_sub(self.chassis_at_ms) >= CHASSIS_PERIOD_MS {
+            let now = now_ms as u16;
+            if now.wrapping_sub(self.chassis_at_ms) >= CHASSIS_PERIOD_MS {
                 // A mapping costs some 400 cycles on the AVR: refreshed every 10 ms.
-                self.chassis_at_ms = now_ms;
+                self.chassis_at_ms = now;
                 self.chassis = CHASSIS.map_int(inputs.adc.ch7);
             }
             if self.speed.due(now_us, self.drive_mode) {
@@ -391,9 +423,14 @@ impl<B: Board> Core<B> {
 
     #[inline(never)]
     fn start(&mut self, now_us: u32, now_ms: u32) {
-        self.leds = Leds::new(now_ms);
-        self.speed = SpeedMeter::new(now_us);
-        self.chassis_at_ms = now_ms.wrapping_sub(CHASSIS_PERIOD_MS);
+        // The LEDs and the speed meter are as `new` made them (this is the first tick):
+        // only their times move.
+        self.leds.start(now_ms);
+        if self.variant().has_drive() {
+            // Drive state only: a lift/lift board never reads it.
+            self.speed.start(now_us);
+            self.chassis_at_ms = (now_ms as u16).wrapping_sub(CHASSIS_PERIOD_MS);
+        }
         for m in &mut self.motors {
             m.start(now_us);
         }
@@ -471,6 +508,71 @@ impl<B: Board> Core<B> {
             State::Running { .. } => MotorOutput::Drive(self.motors[motor.index()].demand()),
             State::Exception(Cause::Boot) => MotorOutput::BOOT,
             State::Exception(_) | State::Restarting { .. } => MotorOutput::Stop,
+        }
+    }
+}
+
+/// The motor whose parameter block may hold register `reg`: M2 from its first
+/// register on, else M1.
+#[inline(always)]
+fn motor_of(variant: Variant, reg: u8) -> MotorId {
+    if reg >= Layout::of(variant, MotorId::M2).base {
+        MotorId::M2
+    } else {
+        MotorId::M1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parameter_register_is_found_in_its_own_motor_s_block() {
+        let mut found = 0;
+        for variant in [Variant::DriveSteer, Variant::LiftLift] {
+            for reg in 0..=u8::MAX {
+                for motor in MotorId::BOTH {
+                    if Layout::of(variant, motor).param(reg).is_some() {
+                        assert_eq!(motor_of(variant, reg), motor, "{variant:?} {reg}");
+                        found += 1;
+                    }
+                }
+            }
+        }
+        // 2 × (7 + stall check + dead zone) + calibration on the three position motors.
+        assert_eq!(found, 4 * 9 + 3 * 2);
+    }
+
+    #[test]
+    fn a_new_board_s_motors_are_new_motors_of_its_kinds() {
+        for variant in [Variant::DriveSteer, Variant::LiftLift] {
+            let core = Core::new(variant, 3);
+            for motor in MotorId::BOTH {
+                assert_eq!(core.motor(motor), &Motor::new(Kind::of(variant, motor)));
+            }
+        }
+        let core = Core::new(Variant::DriveSteer, 3);
+        assert_eq!(core.motor(MotorId::M1).kind, Kind::Drive);
+    }
+
+    #[test]
+    fn the_compile_time_cores_equal_new_ones_once_addressed() {
+        for byte in [0, 1, 9, 10, 0xff] {
+            let mut drive = Core::<DriveSteerBoard>::POWER_UP;
+            assert_eq!(drive.address(), None);
+            drive.set_eeprom(byte);
+            assert_eq!(
+                format!("{drive:?}"),
+                format!("{:?}", Core::new(DriveSteerBoard, byte))
+            );
+            let mut lift = Core::<LiftLiftBoard>::POWER_UP;
+            lift.set_eeprom(byte);
+            assert_eq!(
+                format!("{lift:?}"),
+                format!("{:?}", Core::new(LiftLiftBoard, byte))
+            );
+            assert_eq!(lift.address(), bus_address(byte));
         }
     }
 }

@@ -94,25 +94,6 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
     (quotient, rem)
 }
 
-/// `⌊(rem · 2^bits) / d⌋` for `rem < d`: the next `bits` (≤ 32) binary digits of a
-/// quotient whose integer part [`div_rem`] gave. 0 when `d` is 0.
-pub fn fraction(mut rem: u32, d: u32, bits: u8) -> u32 {
-    if d == 0 {
-        return 0;
-    }
-    let mut digits = 0u32;
-    for _ in 0..bits.min(32) {
-        let carry = (rem as i32) < 0;
-        rem <<= 1;
-        digits <<= 1;
-        if carry || rem >= d {
-            rem = rem.wrapping_sub(d);
-            digits |= 1;
-        }
-    }
-    digits
-}
-
 /// `⌊us / 1000⌋`. Below 2^19 µs (every update interval but a stalled one) without a
 /// division: ⌊(us/8)/125⌋ by a reciprocal multiply, in 16 bits below 2^16 µs.
 #[inline(always)]
@@ -183,23 +164,5 @@ mod tests {
         for us in [u32::MAX, 0x8000_0000, 4_294_967_000, 123_456_789] {
             assert_eq!(div_1000(us), us / 1000, "{us}");
         }
-    }
-
-    #[test]
-    fn fraction_continues_the_division() {
-        // 1/3 in 8 bits: 0.01010101b = 85.
-        assert_eq!(fraction(1, 3, 8), 85);
-        // 7/8 = 0.111b: 224 in 8 bits.
-        assert_eq!(fraction(7, 8, 8), 224);
-        for (rem, d) in [
-            (0u32, 5u32),
-            (999, 1000),
-            (123_456, 1 << 23),
-            (0x8000_0000, u32::MAX),
-        ] {
-            let exact = ((u64::from(rem) << 8) / u64::from(d)) as u32;
-            assert_eq!(fraction(rem, d, 8), exact, "{rem} / {d}");
-        }
-        assert_eq!(fraction(3, 0, 8), 0);
     }
 }

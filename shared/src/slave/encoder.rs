@@ -12,7 +12,7 @@
 //!
 //! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
 
-use super::divide::{div_rem, fraction};
+use super::divide::div_rem;
 use crate::pid::{Fix, Saturating};
 
 /// The original's window: the drive updates on the first tick more than this long after
@@ -97,27 +97,22 @@ pub fn rate(edges: u32, span_us: u32) -> Fix {
         return Fix::ZERO;
     }
     // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check).
-    let scaled = (edges <= 4_294).then(|| edges * 1_000_000);
-    let (whole, rem, span) = match scaled {
-        Some(scaled) => {
-            let (whole, rem) = div_rem(scaled, span_us);
-            (whole, rem, span_us)
-        }
-        // Only for more than 4294 edges in one update: 10^6 = 15625·64.
-        None => {
-            let span = (span_us >> 6).max(1);
-            // 274877·15625 < 2^32; more edges than that in one update is past any speed.
-            let scaled = edges.min(274_877) * 15_625;
-            let (whole, rem) = div_rem(scaled, span);
-            (whole, rem, span)
-        }
+    // Beyond (only for more than 4294 edges in one update): 10^6 = 15625·64, the span
+    // in units of 64 µs; 274877·15625 < 2^32, and more edges than that in one update
+    // is past any speed. One product and one division for both.
+    let (edges, factor, span) = if edges <= 4_294 {
+        (edges, 1_000_000, span_us)
+    } else {
+        (edges.min(274_877), 15_625, (span_us >> 6).max(1))
     };
+    let (whole, rem) = div_rem(edges * factor, span);
     if whole > 32_767 {
         return Fix::MAX;
     }
-    // rem < span; 8 fraction bits are plenty (none past 2^24 µs, as before).
+    // rem < span; 8 fraction bits are plenty (none past 2^24 µs, as before): below it,
+    // rem·256 < 2^32, so the same division gives them.
     let frac = if span < 1 << 24 {
-        fraction(rem, span, 8)
+        div_rem(rem << 8, span).0
     } else {
         0
     };
@@ -154,6 +149,12 @@ impl SpeedMeter {
         }
     }
 
+    /// [`SpeedMeter::new`] at `now_us` for a meter that `new` made and nothing has
+    /// touched since (the board's first tick): only the window's start moves.
+    pub(crate) fn start(&mut self, now_us: u32) {
+        self.since_us = now_us;
+    }
+
     /// Adds the edges one tick took from the [`EdgeCounter`].
     pub fn accumulate(&mut self, sample: &EdgeSample) {
         if sample.rising > 0 {
@@ -181,8 +182,10 @@ impl SpeedMeter {
             DriveMode::EdgeTiming => self.edge_timing(now_us),
         };
         let reverse = if n > 0 {
-            // b > ⌊n/3⌋ exactly when 3·b > n (no division).
-            3 * u32::from(self.b_high) > n
+            // b > ⌊n/3⌋ exactly when 3·b > n (no division; two additions, not a
+            // 32-bit multiplication).
+            let b = u32::from(self.b_high);
+            b + b + b > n
         } else {
             self.speed < Fix::ZERO
         };
@@ -247,5 +250,19 @@ impl Odometer {
     /// REG_RESET bit 2.
     pub fn clear(&mut self) {
         self.edges = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn starting_a_new_meter_equals_making_it_then() {
+        for now in [0, 1, 150_000, u32::MAX] {
+            let mut started = SpeedMeter::new(0);
+            started.start(now);
+            assert_eq!(started, SpeedMeter::new(now), "{now}");
+        }
     }
 }

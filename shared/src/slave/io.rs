@@ -180,3 +180,16 @@ pub struct Outputs {
     /// Feed the watchdog, or let it reset the board.
     pub watchdog: Watchdog,
 }
+
+impl Outputs {
+    /// Both motors stopped, with these LEDs and watchdog: the rare ticks of a board
+    /// without an address or about to reset (one out-of-line copy for both).
+    #[inline(never)]
+    pub fn stopped(leds: LedLevels, watchdog: Watchdog) -> Outputs {
+        Outputs {
+            motors: [MotorOutput::Stop; 2],
+            leds,
+            watchdog,
+        }
+    }
+}

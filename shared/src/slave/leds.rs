@@ -73,9 +73,20 @@ pub enum Led {
     Led2,
 }
 
-/// Whether `now` is before `deadline` on a wrapping ms clock.
-fn before(now_ms: u32, deadline: u32) -> bool {
-    (now_ms.wrapping_sub(deadline) as i32) < 0
+/// The low 16 bits of the ms clock: every deadline here is at most 600 ms ahead, and
+/// every one that has passed is dropped or moved up within 101 ms (see [`Leds`]), so a
+/// 16-bit clock that wraps every 65.5 s orders them as the full one does, in half the
+/// registers on the AVR.
+type Ms = u16;
+
+/// Whether `now` is before `deadline` on a wrapping 16-bit ms clock.
+fn before(now_ms: Ms, deadline: Ms) -> bool {
+    (now_ms.wrapping_sub(deadline) as i16) < 0
+}
+
+/// The low 16 bits of a ms clock.
+const fn low(now_ms: u32) -> Ms {
+    now_ms as Ms
 }
 
 /// The timed LED sources of a slave with a good address.
@@ -83,36 +94,52 @@ fn before(now_ms: u32, deadline: u32) -> bool {
 /// The levels change only when the ms clock reaches one of the deadlines, when the
 /// exception latch changes, or on a ping or a debug write; [`Leds::levels`] keeps its
 /// last result until then, so most ticks only compare.
+///
+/// Deadlines are 16-bit ([`Ms`]): the levels are computed again at least every 101 ms
+/// (the heartbeat), and each computation drops a passed ping or debug deadline and
+/// moves a passed display deadline up to now, so none is ever 32.8 s stale, where a
+/// wrapped 16-bit clock would take it for a future one.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Leds {
-    display_until: u32,
-    ping_until: Option<u32>,
-    debug: Option<(Led, u32)>,
-    heartbeat_at: u32,
+    display_until: Ms,
+    ping_until: Option<Ms>,
+    debug: Option<(Led, Ms)>,
+    heartbeat_at: Ms,
     /// The last levels, valid before `valid_until` while the latch shows `latch`.
     shown: LedLevels,
     latch: LedLevels,
-    valid_until: u32,
+    valid_until: Ms,
 }
 
 impl Leds {
     /// LEDs whose address display starts at `now_ms`.
     pub const fn new(now_ms: u32) -> Leds {
+        let end = low(now_ms).wrapping_add(BOOT_DISPLAY_MS as Ms);
         Leds {
-            display_until: now_ms.wrapping_add(BOOT_DISPLAY_MS),
+            display_until: end,
             ping_until: None,
             debug: None,
-            heartbeat_at: now_ms.wrapping_add(BOOT_DISPLAY_MS),
+            heartbeat_at: end,
             shown: LedLevels::OFF,
             latch: LedLevels::OFF,
-            valid_until: now_ms,
+            valid_until: low(now_ms),
         }
+    }
+
+    /// [`Leds::new`] at `now_ms` for LEDs that `new` made and nothing has touched since
+    /// (the board's first tick): only the three deadlines move.
+    pub(crate) fn start(&mut self, now_ms: u32) {
+        let end = low(now_ms).wrapping_add(BOOT_DISPLAY_MS as Ms);
+        self.display_until = end;
+        self.heartbeat_at = end;
+        self.valid_until = low(now_ms);
     }
 
     /// REG_PING was written.
     pub fn ping(&mut self, now_ms: u32) {
-        self.ping_until = Some(now_ms.wrapping_add(PING_MS));
-        self.valid_until = now_ms;
+        let now = low(now_ms);
+        self.ping_until = Some(now.wrapping_add(PING_MS as Ms));
+        self.valid_until = now;
     }
 
     /// REG_DEBUGLED was written: 0 lights LED1, 1 lights LED2, other values do nothing.
@@ -122,8 +149,9 @@ impl Leds {
             1 => Led::Led2,
             _ => return,
         };
-        self.debug = Some((led, now_ms.wrapping_add(DEBUG_LED_MS)));
-        self.valid_until = now_ms;
+        let now = low(now_ms);
+        self.debug = Some((led, now.wrapping_add(DEBUG_LED_MS as Ms)));
+        self.valid_until = now;
     }
 
     /// The levels at `now_ms`, called once per tick.
@@ -135,7 +163,7 @@ impl Leds {
         state: &State,
     ) -> LedLevels {
         let latch = latch(state);
-        if before(now_ms, self.valid_until) && latch == self.latch {
+        if before(low(now_ms), self.valid_until) && latch == self.latch {
             return self.shown;
         }
         let (levels, valid_until) = self.compute(now_ms, address, variant, latch);
@@ -154,7 +182,8 @@ impl Leds {
         address: u8,
         variant: Variant,
         latch: LedLevels,
-    ) -> (LedLevels, u32) {
+    ) -> (LedLevels, Ms) {
+        let now_ms = low(now_ms);
         if before(now_ms, self.display_until) {
             let display = LedLevels {
                 led1: address & 1 != 0,
@@ -162,6 +191,8 @@ impl Leds {
             };
             return (display, self.display_until);
         }
+        // Passed for good: kept at most 101 ms behind, so the wrap never revives it.
+        self.display_until = now_ms;
         let mut levels = latch;
         let mut next = self.heartbeat_at;
         if let Some(until) = self.ping_until {
@@ -181,7 +212,7 @@ impl Leds {
             }
         }
         if !before(now_ms, self.heartbeat_at) {
-            self.heartbeat_at = now_ms.wrapping_add(HEARTBEAT_MS);
+            self.heartbeat_at = now_ms.wrapping_add(HEARTBEAT_MS as Ms);
             levels.led2 = true;
             // Lit for this tick only.
             next = now_ms.wrapping_add(1);
@@ -191,7 +222,7 @@ impl Leds {
 }
 
 /// The earlier of two deadlines on a wrapping ms clock.
-fn earliest(a: u32, b: u32) -> u32 {
+fn earliest(a: Ms, b: Ms) -> Ms {
     if before(a, b) {
         a
     } else {
@@ -275,5 +306,45 @@ mod tests {
             lit += usize::from(a.led1) + usize::from(a.led2);
         }
         assert!(lit > 1_000, "the sources lit the LEDs {lit} times");
+    }
+
+    #[test]
+    fn starting_new_leds_equals_making_them_then() {
+        for now in [0, 1, 599, 65_535, 65_536, 1_000_000, u32::MAX] {
+            let mut started = Leds::new(0);
+            started.start(now);
+            assert_eq!(started, Leds::new(now), "{now}");
+        }
+    }
+
+    #[test]
+    fn the_16_bit_deadlines_survive_the_clock_s_wrap() {
+        // Started 300 ms before the 16-bit clock wraps, run past two more wraps: the
+        // address display (LED1 for address 1) ends after 600 ms and never comes back,
+        // the heartbeat keeps its 101-ms period, and a ping after the wrap lasts 50 ms.
+        let running = State::Running { last: Cause::Boot };
+        let start = 65_236u32;
+        let mut leds = Leds::new(start);
+        let (mut led1, mut beats, mut last_beat) = (Vec::new(), 0, None);
+        for now in start..start + 140_000 {
+            if now == 200_000 {
+                leds.ping(now);
+            }
+            let levels = leds.levels(now, 1, Variant::DriveSteer, &running);
+            if levels.led1 {
+                led1.push(now);
+            }
+            if levels.led2 {
+                if let Some(last) = last_beat {
+                    assert_eq!(now - last, 101, "heartbeat at {now}");
+                }
+                last_beat = Some(now);
+                beats += 1;
+            }
+        }
+        let display: Vec<u32> = (start..start + 600).collect();
+        let ping: Vec<u32> = (200_000..200_050).collect();
+        assert_eq!(led1, [display, ping].concat());
+        assert_eq!(beats, (140_000 - 600 - 1) / 101 + 1);
     }
 }

@@ -126,29 +126,23 @@ impl Params {
     /// motor, and one copy of the eleven conversions serves both.
     #[inline(never)]
     pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
-        let scale = kind.param_scale(param);
+        // One conversion for every parameter, then one store.
+        let value = kind.param_scale(param).unmap(raw);
+        let g = &mut self.gains;
         match param {
-            Param::Threshold => self.threshold = scale.unmap_int(raw),
+            Param::Threshold => self.threshold = Scale::whole(value),
             Param::StallCheck => {
-                self.stall_check = u8::try_from(scale.unmap_int(raw)).unwrap_or(u8::MAX)
+                self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
             }
-            _ => {
-                // One conversion for every fixed-point parameter, then one store.
-                let value = scale.unmap(raw);
-                let g = &mut self.gains;
-                match param {
-                    Param::Required => self.required = value,
-                    Param::P => g.p = value,
-                    Param::I => g.i = value,
-                    Param::D => g.d = value,
-                    Param::Cap => g.cap = value,
-                    Param::Decay => g.decay = value,
-                    Param::DeadZone => g.dead_zone = value,
-                    Param::CalibMin => self.calibration.set_min(value),
-                    Param::CalibMax => self.calibration.set_max(value),
-                    Param::Threshold | Param::StallCheck => {}
-                }
-            }
+            Param::Required => self.required = value,
+            Param::P => g.p = value,
+            Param::I => g.i = value,
+            Param::D => g.d = value,
+            Param::Cap => g.cap = value,
+            Param::Decay => g.decay = value,
+            Param::DeadZone => g.dead_zone = value,
+            Param::CalibMin => self.calibration.set_min(value),
+            Param::CalibMax => self.calibration.set_max(value),
         }
     }
 }
@@ -413,11 +407,13 @@ impl Motor {
                 from.actual = actual;
                 raw[0] = map(scale(Monitor::Actual), actual);
             }
-            let terms = step.map(|s| (s.error, s.integral, s.deriv));
-            let zero = terms.is_none_or(|t| t == (Fix::ZERO, Fix::ZERO, Fix::ZERO));
+            let (error, integral, deriv) = match step {
+                Some(s) => (s.error, s.integral, s.deriv),
+                None => (Fix::ZERO, Fix::ZERO, Fix::ZERO),
+            };
+            let zero = error == Fix::ZERO && integral == Fix::ZERO && deriv == Fix::ZERO;
             if all || !(zero && from.terms_zero) {
                 from.terms_zero = zero;
-                let (error, integral, deriv) = terms.unwrap_or((Fix::ZERO, Fix::ZERO, Fix::ZERO));
                 raw[1] = map(scale(Monitor::Error), error);
                 raw[2] = map(scale(Monitor::Integral), integral);
                 raw[3] = map(scale(Monitor::Deriv), deriv);

@@ -7,8 +7,9 @@
 //!
 //! - [`Scale::unmap`] is exact (the true value, truncated to 1/65536) using two `u32`
 //!   divisions; it runs only when a register is written.
-//! - [`Scale::unmap_int`] truncates to an integer, as the original does for thresholds;
-//!   it equals the original's float32 result for every raw value (tested exhaustively).
+//! - [`Scale::unmap_int`] truncates to an integer, as the original does for thresholds
+//!   (the integer part of `unmap`'s result); it equals the original's float32 result for
+//!   every raw value (tested exhaustively).
 //! - [`Scale::map`] (value → raw, clamped) runs for every monitoring value, so it uses a
 //!   reciprocal computed at compile time and four 16×16-bit products.
 //!
@@ -67,10 +68,18 @@ impl Scale {
 
     /// The value a raw register holds, truncated toward zero to an integer (as the
     /// original does for OVERCURRENTTHRESH and STALLCHECK). Only for ranges starting at
-    /// 0, which all integer parameters have.
+    /// 0, which all integer parameters have: then it is [`Scale::unmap`]'s integer part,
+    /// ⌊raw·(b − a)/F⌋, the quotient of the same division (no second routine).
     #[inline(always)]
     pub fn unmap_int(self, raw: u16) -> u16 {
-        unmap_int(raw, self.span, self.full)
+        Scale::whole(self.unmap(raw))
+    }
+
+    /// The integer part of a non-negative [`Scale::unmap`] result of a range from 0
+    /// (below 2^16): what [`Scale::unmap_int`] gives for the same raw value.
+    #[inline(always)]
+    pub fn whole(value: Fix) -> u16 {
+        (value.to_bits() >> 16) as u16
     }
 
     /// The raw value for `value`: trunc((clamp(v, a, b) − a)·F/(b − a)). Within one count
@@ -98,12 +107,6 @@ fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
     let fraction = div_rem(rem << 16, full).0;
     let bits = (whole << 16 | fraction) as i32;
     Fix::from_bits(bits.wrapping_add(i32::from(min) << 16))
-}
-
-#[inline(never)]
-fn unmap_int(raw: u16, span: u16, full: u16) -> u16 {
-    let (value, _) = div_rem(u32::from(raw) * u32::from(span), u32::from(full.max(1)));
-    u16::try_from(value).unwrap_or(u16::MAX)
 }
 
 #[inline(never)]

@@ -14,8 +14,11 @@
 //! leaving an exception leaves the watch as it is: leaving takes a REG_RESET write, which
 //! restarts the count, and a board in exception is not checked.
 //!
-//! The ms clock wraps (every 49.7 days); only differences are taken, so the wrap is
-//! harmless as long as the board is heard from at least once in 24 days.
+//! Only the low 16 bits of the ms clock are kept (half the registers on the AVR); only
+//! differences are taken. A running board is checked every tick, so the watch expires
+//! (BUSTIMEOUT ≤ 65,535 ms) before the 16-bit difference can wrap; a board in exception
+//! is not checked, and it leaves the exception only through a bus write, which restarts
+//! the count before the next check.
 
 /// BUSTIMEOUT's power-on value, ms.
 pub const BUS_TIMEOUT_POWER_ON_MS: u16 = 2500;
@@ -23,8 +26,9 @@ pub const BUS_TIMEOUT_POWER_ON_MS: u16 = 2500;
 /// Whether the master is still heard from.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct SilenceWatch {
-    /// When a transaction was last heard (ms), once armed; `None` until the first ping.
-    heard_ms: Option<u32>,
+    /// When a transaction was last heard (the ms clock's low 16 bits), once armed;
+    /// `None` until the first ping.
+    heard_ms: Option<u16>,
 }
 
 impl SilenceWatch {
@@ -41,14 +45,14 @@ impl SilenceWatch {
     /// REG_PING was written at `now_ms`: arms the watch (if not yet) and restarts the
     /// count.
     pub fn ping(&mut self, now_ms: u32) {
-        self.heard_ms = Some(now_ms);
+        self.heard_ms = Some(now_ms as u16);
     }
 
     /// A transaction addressed to this slave was heard by `now_ms`: restarts the count
     /// if armed.
     pub fn heard(&mut self, now_ms: u32) {
         if self.heard_ms.is_some() {
-            self.heard_ms = Some(now_ms);
+            self.heard_ms = Some(now_ms as u16);
         }
     }
 
@@ -56,7 +60,7 @@ impl SilenceWatch {
     /// Never with `timeout_ms` = 0 or before the first ping.
     pub fn expired(&self, now_ms: u32, timeout_ms: u16) -> bool {
         match self.heard_ms {
-            Some(at) if timeout_ms != 0 => now_ms.wrapping_sub(at) >= u32::from(timeout_ms),
+            Some(at) if timeout_ms != 0 => (now_ms as u16).wrapping_sub(at) >= timeout_ms,
             _ => false,
         }
     }
