@@ -6,6 +6,7 @@
 # turn 40, lift a leg, stop, while a live view shows required against actual speeds and
 # positions. Every number on screen is read back from the emulated boards over the serial
 # line. Then it stops the twin and prints the twin's own speed report.
+# Arguments go to the twin, e.g. `scripts/demo.sh --threads 1` (see `twin --help`).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -24,7 +25,7 @@ cargo build --release -q -p twin -p hostctl
 bin=${CARGO_TARGET_DIR:-$root/target}/release
 
 port=$work/port
-"$bin/twin" --link "$port" --stats 5 >"$work/pty" 2>"$work/twin.log" &
+"$bin/twin" --link "$port" --stats 5 "$@" >"$work/pty" 2>"$work/twin.log" &
 twin=$!
 stop_twin() {
   kill "$twin" 2>/dev/null || true

@@ -67,6 +67,8 @@ pub(crate) struct Shared {
     pub trace_irqs: RefCell<HashMap<usize, (u8, u8)>>,
     /// The raw cycle the sleep deadline timer is queued for, if it is.
     pub deadline: Cell<Option<u64>>,
+    /// Pin changes set ahead ([`Avr::set_pin_at`]), in the order they are due.
+    pub pin_changes: RefCell<VecDeque<crate::pin_timer::PinChange>>,
 }
 
 /// Recorded (cycle, level) changes per (port letter, bit).
@@ -179,7 +181,7 @@ impl Avr {
     }
 
     /// Creates and initialises an empty core with the harness's hooks installed.
-    fn blank() -> Result<Avr, HarnessError> {
+    pub(crate) fn blank() -> Result<Avr, HarnessError> {
         // SAFETY: the name is a NUL-terminated string; simavr returns NULL for unknown cores.
         let raw = unsafe { ffi::avr_make_mcu_by_name(c"atmega328p".as_ptr()) };
         let raw = NonNull::new(raw).ok_or(HarnessError::CoreUnavailable)?;
@@ -221,6 +223,7 @@ impl Avr {
             traces: RefCell::new(HashMap::new()),
             trace_irqs: RefCell::new(HashMap::new()),
             deadline: Cell::new(None),
+            pin_changes: RefCell::new(VecDeque::new()),
         });
         let mut avr = Avr {
             raw,
@@ -314,6 +317,7 @@ impl Avr {
         // simavr dropped every cycle timer.
         self.shared.deadline.set(None);
         self.arm_rx_pump();
+        self.arm_pin_timer();
     }
 
     /// An external reset (the RESET pin, or the Uno's DTR auto-reset): the firmware
@@ -350,6 +354,11 @@ impl Avr {
     /// it is set. [`Avr::clear_observer`] removes it.
     pub fn set_observer(&mut self, observe: impl FnMut(&mut Avr) + 'static) {
         self.observer = Some(Box::new(observe));
+    }
+
+    /// Whether an observer is set ([`Avr::set_observer`]).
+    pub(crate) fn has_observer(&self) -> bool {
+        self.observer.is_some()
     }
 
     /// Removes the observer set by [`Avr::set_observer`].

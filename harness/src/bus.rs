@@ -13,6 +13,12 @@
 //! that chip is run at once, inside the master's step, until its firmware has answered (see
 //! [`crate::twi`] for how simavr's TWI is bridged and what it models of bus timing).
 //!
+//! **Threads.** With [`Bus::set_threads`] above 1, each quantum runs in two phases: first the
+//! master chips (and every chip added before the last of them) one after the other, each with
+//! the slaves it addresses run on the spot as above; then the slave chips still behind, side
+//! by side on worker threads. A slave in that second phase touches only its own core and
+//! hooks, so the result is the same as with one thread, whatever the threads' timing.
+//!
 //! **Faults.** [`Bus::cut`] takes an address off the bus (its device NACKs everything, as if
 //! unplugged) and [`Bus::restore`] puts it back. A slave chip that takes an event but never
 //! answers costs a bounded wait ([`Bus::set_answer_timeout_us`]), never a hang.
@@ -24,12 +30,16 @@
 mod engine;
 #[path = "bus_peer.rs"]
 mod peer;
+#[path = "bus_pool.rs"]
+mod pool;
 #[path = "bus_trace.rs"]
 mod trace;
 
 use std::cell::{RefCell, RefMut};
 use std::marker::PhantomData;
+use std::ptr::NonNull;
 use std::rc::Rc;
+use std::time::Duration;
 
 use crate::avr::{Shared, CYCLES_PER_US};
 use crate::twi::chip::SlaveChip;
@@ -59,6 +69,11 @@ pub struct TargetId<T> {
 pub struct Bus {
     // Field order is drop order: hooks on master chips go before the engine and the chips.
     master_taps: Vec<Tap>,
+    /// Worker threads for the slave phase; None runs every chip on the caller's thread.
+    pool: Option<pool::Pool>,
+    /// Chips run one after the other in each quantum, before the rest run side by side:
+    /// every chip up to and including the last master chip.
+    serial_chips: usize,
     engine: Rc<RefCell<Engine>>,
     chips: Vec<Rc<RefCell<Avr>>>,
     /// UART0 bytes taken from each chip by the bus helpers and not returned yet.
@@ -81,6 +96,8 @@ impl Bus {
     pub fn new() -> Bus {
         Bus {
             master_taps: Vec::new(),
+            pool: None,
+            serial_chips: 0,
             engine: Rc::new(RefCell::new(Engine::new(
                 DEFAULT_ANSWER_TIMEOUT_US * CYCLES_PER_US,
             ))),
@@ -113,7 +130,9 @@ impl Bus {
             }),
         );
         self.master_taps.push(tap);
-        Ok(self.push_chip(Rc::new(RefCell::new(avr))))
+        let index = self.push_chip(Rc::new(RefCell::new(avr)));
+        self.serial_chips = index + 1;
+        Ok(index)
     }
 
     /// Puts a chip running slave firmware on the bus; returns its chip index.
@@ -168,6 +187,29 @@ impl Bus {
     /// Bus time in emulated microseconds.
     pub fn micros(&self) -> u64 {
         self.now / CYCLES_PER_US
+    }
+
+    /// Runs the slave chips of each quantum on `threads` threads in all, the caller's
+    /// included (see the module docs); 1 (the default) runs every chip on the caller's thread.
+    /// The worker threads live as long as the bus (or until the next call).
+    pub fn set_threads(&mut self, threads: usize) {
+        let threads = threads.max(1);
+        if threads != self.threads() {
+            self.pool = (threads > 1).then(|| pool::Pool::new(threads - 1));
+        }
+    }
+
+    /// Threads the chips run on, the caller's included.
+    pub fn threads(&self) -> usize {
+        self.pool.as_ref().map_or(1, |p| p.workers() + 1)
+    }
+
+    /// CPU time the bus's worker threads have used so far (zero with one thread); the
+    /// caller's own thread is not included.
+    pub fn worker_cpu(&self) -> Duration {
+        self.pool
+            .as_ref()
+            .map_or(Duration::ZERO, pool::Pool::worker_cpu)
     }
 
     /// Sets the lock-step quantum (at least 1 µs).
@@ -257,13 +299,13 @@ impl Bus {
     fn advance_to(&mut self, target: u64) {
         while self.now < target {
             let next = self.now.saturating_add(self.quantum).min(target);
-            for chip in &self.chips {
-                if let Ok(mut avr) = chip.try_borrow_mut() {
-                    let behind = next.saturating_sub(avr.cycles());
-                    if behind > 0 {
-                        avr.run_cycles(behind);
-                    }
+            match &self.pool {
+                Some(pool) => {
+                    let (serial, side_by_side) = self.chips.split_at(self.serial_chips);
+                    run_chips(serial, next);
+                    run_side_by_side(pool, side_by_side, next);
                 }
+                None => run_chips(&self.chips, next),
             }
             self.now = next;
         }
@@ -311,6 +353,44 @@ impl Bus {
     }
 }
 
+/// Runs each chip that is behind `next` up to it, one after the other.
+fn run_chips(chips: &[Rc<RefCell<Avr>>], next: u64) {
+    for chip in chips {
+        if let Ok(mut avr) = chip.try_borrow_mut() {
+            let behind = next.saturating_sub(avr.cycles());
+            if behind > 0 {
+                avr.run_cycles(behind);
+            }
+        }
+    }
+}
+
+/// Runs each chip that is behind `next` up to it, on the pool's threads and this one.
+fn run_side_by_side(pool: &pool::Pool, chips: &[Rc<RefCell<Avr>>], next: u64) {
+    let mut behind: Vec<RefMut<'_, Avr>> = chips
+        .iter()
+        .filter_map(|chip| chip.try_borrow_mut().ok())
+        .filter(|avr| avr.cycles() < next)
+        .collect();
+    // An observer is an arbitrary closure, which may not leave its thread; one chip alone
+    // is not worth waking the workers.
+    if behind.len() < 2 || behind.iter().any(|avr| avr.has_observer()) {
+        for avr in &mut behind {
+            let cycles = next.saturating_sub(avr.cycles());
+            avr.run_cycles(cycles);
+        }
+        return;
+    }
+    let raw: Vec<NonNull<Avr>> = behind
+        .iter_mut()
+        .map(|avr| NonNull::from(&mut **avr))
+        .collect();
+    // SAFETY: each pointer comes from a distinct `RefMut` held in `behind` until after the
+    // call, which is not touched meanwhile; none of the chips has an observer.
+    unsafe { pool.run(&raw, next) };
+    drop(behind);
+}
+
 /// End index of the first `needle` in `haystack`.
 fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
     if needle.is_empty() {
@@ -337,6 +417,20 @@ mod tests {
         assert_eq!(peer_bit_cycles(100), 160);
         assert_eq!(peer_bit_cycles(400), 40);
         assert_eq!(peer_bit_cycles(0), 16_000);
+    }
+
+    #[test]
+    fn threads_start_and_stop_with_the_setting() {
+        let mut bus = Bus::new();
+        assert_eq!(bus.threads(), 1);
+        assert_eq!(bus.worker_cpu(), Duration::ZERO);
+        bus.set_threads(3);
+        assert_eq!(bus.threads(), 3);
+        // Runs with no chips still advance bus time through the threaded path.
+        bus.run_us(25);
+        assert_eq!(bus.micros(), 25);
+        bus.set_threads(0);
+        assert_eq!(bus.threads(), 1);
     }
 
     #[test]

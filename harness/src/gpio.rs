@@ -140,7 +140,7 @@ impl Avr {
     }
 
     /// The ioport IRQ of one pin, NULL for a port the chip lacks.
-    fn pin_irq(&self, pin: Pin) -> *mut ffi::avr_irq_t {
+    pub(crate) fn pin_irq(&self, pin: Pin) -> *mut ffi::avr_irq_t {
         if pin.registers().is_none() {
             return std::ptr::null_mut();
         }

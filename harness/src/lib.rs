@@ -53,6 +53,7 @@ mod gpio;
 mod memory;
 pub mod onewire;
 mod pin;
+mod pin_timer;
 mod pty;
 pub mod rc;
 mod state;

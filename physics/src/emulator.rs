@@ -6,14 +6,15 @@
 //!    (`Avr::pwm_duty`; a pin that is a plain output counts as duty 0 or 1) and the
 //!    direction pins D2/D3 and D4/D7;
 //! 2. advances each model by the slice with those inputs held;
-//! 3. runs the chips edge by edge: each encoder edge is applied to PD0/PD1 at its own
-//!    cycle (rounded to the nearest), so none is lost or merged however fast the wheel
-//!    turns (at 4000 ticks/s edges are 62.5 µs apart);
+//! 3. sets each encoder edge on PD0/PD1 for its own cycle (rounded to the nearest;
+//!    `Avr::set_pin_at`, applied by the chip itself while it runs), so none is lost or
+//!    merged however fast the wheel turns (at 4000 ticks/s edges are 62.5 µs apart), and
+//!    runs the chips to the end of the slice in one go;
 //! 4. at the end of the slice, puts the models' millivolts on the ADC inputs.
 //!
 //! The same code drives one [`Avr`] or chips inside a [`Bus`] (through the [`Chips`]
 //! trait); on a bus every chip runs in lock step and the plant only splits the bus's runs
-//! at slice ends and edge times.
+//! at slice ends.
 //!
 //! **Time outside the plant.** The models advance only when the plant runs. If the chips
 //! were run directly in between (e.g. `Bus::uart_read_until`), the next call first catches
@@ -273,9 +274,10 @@ impl Plant {
         }
         due.sort_by_key(|&(at, _, _)| at);
         for (at, chip, e) in due {
-            chips.run_to(at);
             chips
-                .with_chip(chip, |avr| avr.set_pin(encoder_pin(e.channel), e.level))
+                .with_chip(chip, |avr| {
+                    avr.set_pin_at(encoder_pin(e.channel), e.level, at)
+                })
                 .ok_or(PhysicsError::NoSuchChip(chip))?;
         }
         chips.run_to(end);

@@ -29,7 +29,10 @@ mod speed;
 mod status;
 pub mod wiring;
 
-pub use config::{Config, DEFAULT_ANSWER_TIMEOUT_US, DEFAULT_QUANTUM_US, DEFAULT_SLICE_US};
+pub use config::{
+    default_threads, Config, DEFAULT_ANSWER_TIMEOUT_US, DEFAULT_QUANTUM_US, DEFAULT_SLICE_US,
+    MAX_DEFAULT_THREADS,
+};
 pub use error::TwinError;
 pub use rover::{start_half_degrees, Rover, WheelState, RC_CHANNELS, SENSORS};
 pub use speed::Speed;

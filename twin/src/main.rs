@@ -64,6 +64,10 @@ struct RunArgs {
     /// The bus's lock-step quantum, µs of emulated time.
     #[arg(long, value_name = "US", default_value_t = twin::DEFAULT_QUANTUM_US)]
     quantum_us: u64,
+    /// Threads the chips run on (1: all on one thread) [default: the available parallelism,
+    /// at most 4].
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -168,6 +172,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let config = Config {
         firmware_dir: args.firmware_dir.clone(),
         quantum_us: args.quantum_us.max(1),
+        threads: args.threads.unwrap_or_else(twin::default_threads).max(1),
         ..Config::default()
     };
     let mut rover = Rover::with_config(&config)?;
@@ -192,13 +197,15 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     println!("{}", pty.path().display());
     std::io::stdout().flush()?;
     eprintln!(
-        "twin: serving {} ({}control socket {})",
+        "twin: serving {} ({}control socket {}; {} thread{})",
         pty.path().display(),
         args.link
             .as_ref()
             .map(|l| format!("link {}, ", l.display()))
             .unwrap_or_default(),
-        socket.path().display()
+        socket.path().display(),
+        rover.threads(),
+        if rover.threads() == 1 { "" } else { "s" }
     );
 
     let mut server = Server::new(rover, pty, Some(socket), !args.unpaced);

@@ -71,6 +71,7 @@ impl Rover {
         bus.set_quantum_us(config.quantum_us);
         bus.set_answer_timeout_us(config.answer_timeout_us);
         bus.set_tracing(false);
+        bus.set_threads(config.threads);
         let mut names = vec!["master".to_owned()];
         let mut master = Avr::load(&config.image("master"))?;
         let sensors = OneWireBus::attach_rover_sensors(&mut master);
@@ -110,6 +111,12 @@ impl Rover {
         self.bus.micros()
     }
 
+    /// Threads the chips run on, the caller's included ([`Config::threads`]; fewer if the
+    /// system refused some).
+    pub fn threads(&self) -> usize {
+        self.bus.threads()
+    }
+
     /// Emulated time run so far against the wall-clock time it took.
     pub fn speed(&self) -> Speed {
         self.speed
@@ -147,14 +154,19 @@ impl Rover {
     fn run_start(&self) -> RunStart {
         RunStart {
             wall: Instant::now(),
-            cpu: thread_cpu(),
+            cpu: self.cpu(),
             at_us: self.bus.micros(),
         }
     }
 
+    /// CPU time of this thread and the bus's worker threads so far.
+    fn cpu(&self) -> Duration {
+        thread_cpu() + self.bus.worker_cpu()
+    }
+
     fn account(&mut self, start: RunStart) {
         self.speed.busy += start.wall.elapsed();
-        self.speed.cpu += thread_cpu().saturating_sub(start.cpu);
+        self.speed.cpu += self.cpu().saturating_sub(start.cpu);
         self.speed.emulated += Duration::from_micros(self.bus.micros().saturating_sub(start.at_us));
     }
 

@@ -9,8 +9,8 @@ pub struct Speed {
     pub emulated: Duration,
     /// Wall-clock time the runs took.
     pub busy: Duration,
-    /// CPU time the runs took (this thread's), which other programs on the machine do not
-    /// inflate.
+    /// CPU time the runs took (this thread's and the bus's worker threads'), which other
+    /// programs on the machine do not inflate.
     pub cpu: Duration,
 }
 
