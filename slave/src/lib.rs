@@ -1,7 +1,8 @@
 //! Blodwen slave board firmware (ATmega328P): two motor controllers on the rover's I2C
 //! bus, at the address in EEPROM byte 0. One crate builds both images: `slave-drive`
 //! (drive + steer, controllers 1, 2, 4, 5, 7, 8) and `slave-lift` (lift ONE + TWO,
-//! controllers 3, 6, 9); each bin is one line, [`firmware!`] with its variant.
+//! controllers 3, 6, 9); each bin is one line, [`firmware!`] with its variant (and, on
+//! drive/steer, its encoder task).
 //!
 //! Every decision is in `shared::slave` and tested on the host. This crate collects raw
 //! facts in short interrupt tasks and applies the outputs of the control tick:
@@ -34,10 +35,12 @@ pub use shared::slave::Variant;
 /// The whole firmware of a slave built as `board` ([`shared::slave::DriveSteerBoard`] or
 /// [`shared::slave::LiftLiftBoard`]: the variant is a type, fixed at build time, so each
 /// image carries only its own variant's code): the executor's application and its task
-/// bodies. Used once, by each bin.
+/// bodies. Used once, by each bin. The drive/steer bin adds `edge, encoder` (the names of
+/// the encoder's edge task and its pins): a lift/lift board has no encoder, so its image
+/// carries no edge task (236 B) and its PCINT2 vector, never unmasked, is the stray one.
 #[macro_export]
 macro_rules! firmware {
-    ($board:ident) => {
+    ($board:ident $(, $edge:ident, $encoder:ident)?) => {
         use $crate::shared_types::*;
 
         // memcpy and memset, small (drivers::runtime).
@@ -55,7 +58,7 @@ macro_rules! firmware {
             struct Local {
                 twi_port: Option<TwiSlave>,
                 sampler: Sampler,
-                encoder: Encoder,
+                $($encoder: Encoder,)?
                 eeprom: Option<u8>,
                 stage: Stage,
                 _timebase: Timebase,
@@ -68,8 +71,10 @@ macro_rules! firmware {
             #[task(binds = TIMER0_COMPA, priority = 3, shared = [clock])]
             fn millis;
 
-            #[task(binds = PCINT2, priority = 3, shared = [clock, edges], local = [encoder])]
-            fn edge;
+            $(
+                #[task(binds = PCINT2, priority = 3, shared = [clock, edges], local = [$encoder])]
+                fn $edge;
+            )?
 
             #[task(binds = TWI, priority = 2, shared = [regs], local = [twi_port])]
             fn twi;
@@ -95,7 +100,7 @@ macro_rules! firmware {
                 Local {
                     twi_port: p.twi,
                     sampler: p.sampler,
-                    encoder: p.encoder,
+                    $($encoder: p.$encoder,)?
                     eeprom: Some(p.eeprom_byte),
                     stage: p.stage,
                     _timebase: p.timebase,
@@ -108,12 +113,14 @@ macro_rules! firmware {
             cx.shared.clock.advance();
         }
 
-        fn edge(mut cx: edge::Context) {
-            let clock = &*cx.shared.clock;
-            cx.local
-                .encoder
-                .on_change(&mut cx.shared.edges, || clock.now_us());
-        }
+        $(
+            fn $edge(mut cx: $edge::Context) {
+                let clock = &*cx.shared.clock;
+                cx.local
+                    .$encoder
+                    .on_change(&mut cx.shared.edges, || clock.now_us());
+            }
+        )?
 
         fn twi(mut cx: twi::Context) {
             if let Some(port) = cx.local.twi_port {
@@ -127,7 +134,12 @@ macro_rules! firmware {
 
         fn control(mut cx: control::Context) {
             let now_us = cx.shared.clock.lock(|c| c.now_us());
-            let edges = cx.shared.edges.lock(|e| e.take());
+            // No encoder on a lift/lift board: nothing to take (folded at build time).
+            let edges = if Board::variant($board).has_drive() {
+                cx.shared.edges.lock(|e| e.take())
+            } else {
+                Default::default()
+            };
             let core = &mut *cx.local.core;
             if let Some(byte) = *cx.local.eeprom {
                 // The first tick only (a load and a branch on the others).
@@ -167,5 +179,7 @@ pub mod shared_types {
     pub use drivers::pcint::PortDChanges;
     pub use drivers::timebase::Timebase;
     pub use drivers::twi_slave::TwiSlave;
-    pub use shared::slave::{Core, DriveSteerBoard, EdgeCounter, Inputs, LiftLiftBoard, Variant};
+    pub use shared::slave::{
+        Board, Core, DriveSteerBoard, EdgeCounter, Inputs, LiftLiftBoard, Variant,
+    };
 }

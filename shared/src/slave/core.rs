@@ -29,31 +29,45 @@
 //! about 2,000 more; a drive update (window mode, every 150 ms) about 4,600 more (these
 //! four as the previous round measured them; the one PID routine has since added some
 //! 400 to the drive update, see the maximum below). Drive at 1000 ticks/s and the steer
-//! settled: mean 1,393, max 6,450 cycles a tick (9 % of the CPU); the steer moving: mean
-//! 2,330, max 7,850 (15 %). A lift/lift board with both lifts working updates one of
-//! them every tick: mean 3,044 cycles a tick (19 %). Flash: 14,102 B (drive/steer),
-//! 12,220 B (lift/lift); static RAM 540 B, stack 191 B. Every saturating operation off
-//! the per-update path is one out-of-line copy ([`crate::pid`]'s `Saturating`); on it,
-//! magnitudes are compared inline without saturation (the result is the same), since a
-//! call there costs the moving figures some 50 cycles a tick. What keeps the image
-//! small: the core's power-up state is compile-time data (`Core::POWER_UP`), copied
-//! with the rest of `.data` at reset rather than stored field by field; the two PID
-//! forms are one routine ([`crate::pid::Pid`]), which the lift image gets specialised;
-//! the LED, bus-silence and CHASSIS deadlines are 16-bit ms (each is checked often
-//! enough that the wrap never shows); a write finds its motor by one compare (M2's
-//! registers follow M1's). Measured and dropped: the parameter and monitoring scales as
-//! tables in flash and one mapping loop (each image 100 B larger: reading a 10-byte
-//! scale from flash takes more code than the constants it replaces, and the value array
-//! costs stores); the current filters out of line (140 B smaller, 127 cycles a tick
-//! more); the three PID terms as a loop (30 B smaller, 75–95 cycles more on the
-//! lift/lift board); a motor's update or its fault check out of line (larger); the
-//! drive's update without the hold check (46 B smaller, its maximum 400 cycles longer);
-//! the motors' power-up state copied from a flash template (1.3 KB larger). What keeps
-//! the common tick short: each motor's two current filters share one step while they
-//! agree, the LED levels are kept until a deadline or the exception latch changes them,
-//! a pot reading equal to the last one reuses its angle, a motor's monitoring values are
-//! remapped only where they changed, and 32-bit products are built from the hardware
-//! multiplier ([`super::product`]).
+//! settled: mean 1,399, max 6,988 cycles a tick (9 % of the CPU; the maximum is the
+//! window-mode drive update, whose 150 ms interval now takes the general division); the
+//! steer moving: mean 2,362, max 8,790 (15 %). A lift/lift board with both lifts working
+//! updates one of them every tick: mean 3,128, max 7,770 cycles a tick (20 %). Flash:
+//! 13,376 B (drive/steer), 11,138 B (lift/lift); static RAM 538 B, stack 181 B. Every
+//! saturating operation off the per-update path is one out-of-line copy
+//! ([`crate::pid`]'s `Saturating`); on it, magnitudes are compared inline without
+//! saturation (the result is the same), since a call there costs the moving figures
+//! some 50 cycles a tick. What keeps the image small: the core's power-up state is
+//! compile-time data (`Core::POWER_UP`), copied with the rest of `.data` at reset rather
+//! than stored field by field; the two PID forms are one routine ([`crate::pid::Pid`]),
+//! which the lift image gets specialised, and one out-of-line product
+//! ([`crate::pid::mul`]) with its zero tests inside (240 B less than testing at each
+//! call, 20–70 cycles more a moving tick) and saturation by saturating sums; no 32-bit
+//! library multiplication (the speed's edges·10⁶, a register's raw·span and the
+//! reverse test are 16-bit products or sums); the monitoring values start as the
+//! mapping of 0 (`Monitors::POWER_ON`), so the first mapping needs no "map all" path;
+//! ⌊µs/1000⌋ has one reciprocal (below 2^16 µs) and the division beyond; the lift/lift
+//! board's two position updates are one out-of-line copy (the drive/steer board's one
+//! stays in line), and its image has no encoder task; the LED, bus-silence and CHASSIS
+//! deadlines are 16-bit ms (each is checked often enough that the wrap never shows); a
+//! write finds its motor by one compare (M2's registers follow M1's). Measured and
+//! dropped: the parameter and monitoring scales as tables in flash and one mapping loop
+//! (each image 100 B larger: reading a 10-byte scale from flash takes more code than
+//! the constants it replaces, and the value array costs stores); the four monitoring
+//! values as one loop (130 B larger); the current filters out of line (140 B smaller,
+//! 127 cycles a tick more); the three PID terms as a loop (30 B smaller, 75–95 cycles
+//! more on the lift/lift board); a motor's update or its fault check out of line
+//! (larger); the drive's update without the hold check (46 B smaller, its maximum 400
+//! cycles longer); the motors' power-up state copied from a flash template (1.3 KB
+//! larger); the 16×16 product out of line (86 B smaller, 6–7 % on the moving means);
+//! the PID's two rest tests as one OR of the values' bits (30–72 B smaller each, 20–30
+//! cycles more a moving tick: the compares stop at the first non-zero value; the
+//! monitoring's every-10-ms test of the terms does use one); `div_rem`'s pair
+//! packed in a `u64` (larger). What keeps the common tick short: each motor's two
+//! current filters share one step while they agree, the LED levels are kept until a
+//! deadline or the exception latch changes them, a pot reading equal to the last one
+//! reuses its angle, a motor's monitoring values are remapped only where they changed,
+//! and 32-bit products are built from the hardware multiplier ([`super::product`]).
 //!
 //! **Variant at build time.** `Core<B: Board>`: the firmware builds with a zero-sized
 //! board type, so every `match` on the variant and on a motor's [`Kind`] folds away and
@@ -409,15 +423,32 @@ impl<B: Board> Core<B> {
                 (Variant::LiftLift, MotorId::M2) => inputs.adc.ch7,
                 _ => inputs.adc.ch6,
             };
-            let cx = self.context(now_us, now_ms);
-            let m = &mut self.motors[motor.index()];
-            let angle = m.angle(reading);
-            if m.holds(angle, &cx) {
-                // At rest: no controller arithmetic, no fault check (see `Motor::holds`).
-                m.hold(Kind::Position, angle, &cx);
-            } else {
-                self.update_motor(motor, angle, now_us, now_ms);
+            match self.variant() {
+                // Two position motors: one copy of their update serves both.
+                Variant::LiftLift => self.position_update_outlined(motor, reading, now_us, now_ms),
+                // One: its update in line (no call on the tick).
+                Variant::DriveSteer => self.position_update(motor, reading, now_us, now_ms),
             }
+        }
+    }
+
+    /// [`Core::position_update`], not inlined.
+    #[inline(never)]
+    fn position_update_outlined(&mut self, motor: MotorId, reading: u16, now_us: u32, now_ms: u32) {
+        self.position_update(motor, reading, now_us, now_ms);
+    }
+
+    /// A due position update from a pot reading.
+    #[inline(always)]
+    fn position_update(&mut self, motor: MotorId, reading: u16, now_us: u32, now_ms: u32) {
+        let cx = self.context(now_us, now_ms);
+        let m = &mut self.motors[motor.index()];
+        let angle = m.angle(reading);
+        if m.holds(angle, &cx) {
+            // At rest: no controller arithmetic, no fault check (see `Motor::holds`).
+            m.hold(Kind::Position, angle, &cx);
+        } else {
+            self.update_motor(motor, angle, now_us, now_ms);
         }
     }
 

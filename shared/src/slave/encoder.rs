@@ -13,6 +13,7 @@
 //! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
 
 use super::divide::div_rem;
+use super::product::wide;
 use crate::pid::{Fix, Saturating};
 
 /// The original's window: the drive updates on the first tick more than this long after
@@ -92,20 +93,19 @@ impl EdgeCounter {
 }
 
 /// Ticks per second for `edges` edges over `span_us` µs, saturating at 32767.
-pub fn rate(edges: u32, span_us: u32) -> Fix {
+pub fn rate(edges: u16, span_us: u32) -> Fix {
     if edges == 0 || span_us == 0 {
         return Fix::ZERO;
     }
     // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check).
     // Beyond (only for more than 4294 edges in one update): 10^6 = 15625·64, the span
-    // in units of 64 µs; 274877·15625 < 2^32, and more edges than that in one update
-    // is past any speed. One product and one division for both.
-    let (edges, factor, span) = if edges <= 4_294 {
-        (edges, 1_000_000, span_us)
+    // in units of 64 µs; 65535·15625 < 2^32. One product and one division for both.
+    let (factor, span) = if edges <= 4_294 {
+        (1_000_000, span_us)
     } else {
-        (edges.min(274_877), 15_625, (span_us >> 6).max(1))
+        (15_625, (span_us >> 6).max(1))
     };
-    let (whole, rem) = div_rem(edges * factor, span);
+    let (whole, rem) = div_rem(times(edges, factor), span);
     if whole > 32_767 {
         return Fix::MAX;
     }
@@ -117,6 +117,21 @@ pub fn rate(edges: u32, span_us: u32) -> Fix {
         0
     };
     Fix::from_bits((whole << 16 | frac << 8) as i32)
+}
+
+/// Whether more than ⌊n/3⌋ of `n` edges saw B high: b > ⌊n/3⌋ exactly when 3·b > n,
+/// which holds when 2·b > n and otherwise exactly when b > n − 2·b. In 16 bits, with no
+/// division and no multiplication (LLVM makes b + b + b one, a library call on the AVR).
+#[inline(always)]
+fn mostly_backward(n: u16, b_high: u16) -> bool {
+    b_high > n.saturating_sub(b_high).saturating_sub(b_high)
+}
+
+/// `edges·factor` (wrapping; [`rate`]'s products fit) from two 16×16-bit products: the
+/// AVR's 32-bit multiplication is a library routine the image then need not carry.
+#[inline(always)]
+fn times(edges: u16, factor: u32) -> u32 {
+    (wide(edges, (factor >> 16) as u16) << 16).wrapping_add(wide(edges, factor as u16))
 }
 
 /// The drive's speed measurement between two control updates.
@@ -176,16 +191,13 @@ impl SpeedMeter {
     /// Measures the speed (ticks/s) at an update and starts the next interval.
     #[inline(never)]
     pub fn measure(&mut self, now_us: u32, mode: DriveMode) -> Fix {
-        let n = u32::from(self.rising);
+        let n = self.rising;
         let magnitude = match mode {
             DriveMode::Window => rate(n, now_us.wrapping_sub(self.since_us)),
             DriveMode::EdgeTiming => self.edge_timing(now_us),
         };
         let reverse = if n > 0 {
-            // b > ⌊n/3⌋ exactly when 3·b > n (no division; two additions, not a
-            // 32-bit multiplication).
-            let b = u32::from(self.b_high);
-            b + b + b > n
+            mostly_backward(n, self.b_high)
         } else {
             self.speed < Fix::ZERO
         };
@@ -207,7 +219,7 @@ impl SpeedMeter {
     }
 
     fn edge_timing(&self, now_us: u32) -> Fix {
-        let n = u32::from(self.rising);
+        let n = self.rising;
         let fresh = |edge: u32| now_us.wrapping_sub(edge) < FAST_TIMEOUT_US;
         match (n, self.last_edge, self.reference) {
             (0, _, Some(reference)) if fresh(reference) => {
@@ -256,6 +268,73 @@ impl Odometer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rate_is_the_truncated_quotient_to_a_256th() {
+        // ⌊edges·10^6/span⌋ + ⌊256·remainder/span⌋/256 in 64 bits, saturated; past 4294
+        // edges the span counts in 64 µs units, as in the firmware.
+        let reference = |edges: u16, span: u32| {
+            let (edges, span) = (u64::from(edges), u64::from(span));
+            let (numerator, span) = if edges <= 4_294 {
+                (edges * 1_000_000, span)
+            } else {
+                (edges * 15_625, (span >> 6).max(1))
+            };
+            let whole = numerator / span;
+            if whole > 32_767 {
+                return Fix::MAX;
+            }
+            let frac = if span < 1 << 24 {
+                (numerator % span) * 256 / span
+            } else {
+                0
+            };
+            Fix::from_bits(((whole << 16) | (frac << 8)) as i32)
+        };
+        let spans = [
+            1u32,
+            2,
+            3,
+            30,
+            999,
+            1_000,
+            30_517,
+            65_535,
+            65_536,
+            150_001,
+            1 << 24,
+            u32::MAX,
+        ];
+        let mut checked = 0;
+        for edges in (0..=u16::MAX).step_by(7).chain([4_294, 4_295, u16::MAX]) {
+            for span in spans {
+                let want = if edges == 0 {
+                    Fix::ZERO
+                } else {
+                    reference(edges, span)
+                };
+                assert_eq!(rate(edges, span), want, "{edges} edges in {span} µs");
+                checked += 1;
+            }
+        }
+        assert!(checked > 100_000);
+        assert_eq!(rate(150, 150_000), Fix::from_num(1_000));
+        assert_eq!(rate(3, 7_000), Fix::from_bits(428 << 16 | 146 << 8));
+        assert_eq!(rate(5_000, 100), Fix::MAX);
+        assert_eq!(rate(0, 1_000), Fix::ZERO);
+        assert_eq!(rate(9, 0), Fix::ZERO);
+    }
+
+    #[test]
+    fn backward_means_more_than_a_third() {
+        let values = (0..=400u16).chain([0x5554, 0x5555, 0x5556, 0xaaaa, 0xaaab, u16::MAX]);
+        for n in values.clone().filter(|&n| n > 0) {
+            for b in values.clone() {
+                assert_eq!(mostly_backward(n, b), b > n / 3, "{b} of {n}");
+            }
+        }
+        assert!(mostly_backward(3, 2) && !mostly_backward(3, 1) && mostly_backward(2, 1));
+    }
 
     #[test]
     fn starting_a_new_meter_equals_making_it_then() {

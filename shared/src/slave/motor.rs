@@ -217,8 +217,9 @@ pub struct Motor {
     /// When the monitoring values were last mapped, µs.
     mapped_us: u32,
     monitors: Monitors,
-    /// What the monitoring values were last mapped from, if they were.
-    mapped_from: Option<MappedFrom>,
+    /// What the monitoring values were last mapped from (at power-up: what
+    /// [`Monitors::POWER_ON`] maps from).
+    mapped_from: MappedFrom,
     /// The last pot reading [`Motor::angle`] converted (clamped to the ADC's range;
     /// [`NO_READING`] when none), and its angle.
     angle_reading: u16,
@@ -247,7 +248,7 @@ impl Motor {
             last_update_us: 0,
             mapped_us: 0,
             monitors: Monitors::POWER_ON,
-            mapped_from: None,
+            mapped_from: MappedFrom::POWER_ON,
             angle_reading: NO_READING,
             angle: Fix::ZERO,
             at_rest: false,
@@ -398,12 +399,12 @@ impl Motor {
             self.mapped_us = cx.now_us;
             self.fresh = true;
             // A value equal to the one last mapped keeps its raw value: a motor at rest
-            // maps nothing.
-            let all = self.mapped_from.is_none();
-            let from = self.mapped_from.get_or_insert(MappedFrom::ZERO);
+            // maps nothing. Before the first mapping the raw values are those of 0
+            // (tested), so the first maps only what is not 0.
+            let from = &mut self.mapped_from;
             let raw = &mut self.monitors.raw;
             let scale = |monitor| kind.monitor_scale(monitor);
-            if all || from.actual != actual {
+            if from.actual != actual {
                 from.actual = actual;
                 raw[0] = map(scale(Monitor::Actual), actual);
             }
@@ -411,19 +412,19 @@ impl Motor {
                 Some(s) => (s.error, s.integral, s.deriv),
                 None => (Fix::ZERO, Fix::ZERO, Fix::ZERO),
             };
-            let zero = error == Fix::ZERO && integral == Fix::ZERO && deriv == Fix::ZERO;
-            if all || !(zero && from.terms_zero) {
+            let zero = (error.to_bits() | integral.to_bits() | deriv.to_bits()) == 0;
+            if !(zero && from.terms_zero) {
                 from.terms_zero = zero;
                 raw[1] = map(scale(Monitor::Error), error);
                 raw[2] = map(scale(Monitor::Integral), integral);
                 raw[3] = map(scale(Monitor::Deriv), deriv);
             }
-            if all || from.interval_ms != interval_ms {
+            if from.interval_ms != interval_ms {
                 from.interval_ms = interval_ms;
                 raw[5] = INTERVAL.map_int(interval_ms);
             }
-            if !cx.in_exception && (all || from.duty != Some(duty)) {
-                from.duty = Some(duty);
+            if !cx.in_exception && from.duty != duty {
+                from.duty = duty;
                 raw[4] = CONTROL.map_int(u16::from(duty));
             }
         }
@@ -473,16 +474,17 @@ struct MappedFrom {
     /// ERROR, ERRORINTEGRAL and ERRORDERIV were all 0 (as at rest).
     terms_zero: bool,
     interval_ms: u16,
-    /// CONTROL's duty (`None` until mapped: it is not mapped in exception).
-    duty: Option<u8>,
+    /// CONTROL's duty (not mapped in exception).
+    duty: u8,
 }
 
 impl MappedFrom {
-    const ZERO: MappedFrom = MappedFrom {
+    /// What [`Monitors::POWER_ON`]'s raw values are the mapping of: every value 0.
+    const POWER_ON: MappedFrom = MappedFrom {
         actual: Fix::ZERO,
-        terms_zero: false,
+        terms_zero: true,
         interval_ms: 0,
-        duty: None,
+        duty: 0,
     };
 }
 
@@ -522,6 +524,81 @@ mod tests {
         m.update(Fix::from_num(14), &cx(12_000));
         assert!(m.take_fresh());
         assert_eq!(m.monitors().interval_ms, 8);
+    }
+
+    #[test]
+    fn power_up_monitors_are_the_mapping_of_what_they_start_from() {
+        let from = MappedFrom::POWER_ON;
+        for kind in [Kind::Drive, Kind::Position] {
+            let scale = |monitor| kind.monitor_scale(monitor);
+            let zero_terms = [Monitor::Error, Monitor::Integral, Monitor::Deriv]
+                .map(|monitor| map(scale(monitor), Fix::ZERO));
+            assert!(from.terms_zero);
+            assert_eq!(
+                [
+                    map(scale(Monitor::Actual), from.actual),
+                    zero_terms[0],
+                    zero_terms[1],
+                    zero_terms[2],
+                    CONTROL.map_int(u16::from(from.duty)),
+                    INTERVAL.map_int(from.interval_ms),
+                ],
+                Monitors::POWER_ON.raw,
+                "{kind:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_first_mapping_equals_mapping_everything() {
+        // Each value 0 or not at the first mapping, in and out of exception: the raw
+        // values are each value's mapping (CONTROL's only outside an exception).
+        for kind in [Kind::Drive, Kind::Position] {
+            for in_exception in [false, true] {
+                for actual in [0.0, -3.5, 17.25] {
+                    for required in [0.0, 40.0] {
+                        let mut m = Motor::new(kind);
+                        m.start(0);
+                        m.set_param(kind, Param::P, 0x2000);
+                        m.params.required = Fix::from_num(required);
+                        let cx = UpdateContext {
+                            now_us: 2_000,
+                            now_ms: 2,
+                            in_exception,
+                            fault_time_ms: 500,
+                        };
+                        let actual = Fix::from_num(actual);
+                        let mut pid = m.pid;
+                        m.update(actual, &cx);
+                        let step = match kind {
+                            Kind::Drive => pid.speed(&m.params.gains, m.params.required, actual),
+                            Kind::Position => {
+                                pid.position(&m.params.gains, m.params.required, actual)
+                            }
+                        };
+                        let scale = |monitor| kind.monitor_scale(monitor);
+                        let control = if in_exception {
+                            Monitors::POWER_ON.raw[4]
+                        } else {
+                            CONTROL.map_int(u16::from(step.duty.magnitude))
+                        };
+                        let want = [
+                            map(scale(Monitor::Actual), actual),
+                            map(scale(Monitor::Error), step.error),
+                            map(scale(Monitor::Integral), step.integral),
+                            map(scale(Monitor::Deriv), step.deriv),
+                            control,
+                            INTERVAL.map_int(2),
+                        ];
+                        let case = format!("{kind:?} {in_exception} {actual} {required}");
+                        assert_eq!(m.monitors().raw, want, "{case}");
+                        if !in_exception && required != 0.0 {
+                            assert_ne!(want[1], Monitors::POWER_ON.raw[1], "{case}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

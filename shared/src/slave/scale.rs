@@ -100,9 +100,10 @@ impl Scale {
 #[inline(never)]
 fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
     // `max(1)` proves the divisor is not zero (F is 254 or 65534).
-    let (span, full) = (u32::from(span), u32::from(full.max(1)));
+    let full = u32::from(full.max(1));
     // raw·span ≤ 65535·65535 < 2^32; the result is at most 65535·span/full ≤ span + 1.
-    let product = u32::from(raw) * span;
+    // A 16×16-bit product: the AVR's 32-bit multiplication is a library routine.
+    let product = wide(raw, span);
     let (whole, rem) = div_rem(product, full);
     let fraction = div_rem(rem << 16, full).0;
     let bits = (whole << 16 | fraction) as i32;

@@ -5,4 +5,4 @@
 #![feature(abi_avr_interrupt)]
 #![feature(asm_experimental_arch)]
 
-slave::firmware!(DriveSteerBoard);
+slave::firmware!(DriveSteerBoard, edge, encoder);
