@@ -60,6 +60,8 @@ impl Leds {
     }
 
     /// A ping starts at `now_ms`.
+    // Out of line: measured 6 B smaller than in the schedule step.
+    #[inline(never)]
     pub fn ping(&mut self, now_ms: u16) {
         self.status.set_high();
         self.ping_at = Some(now_ms);

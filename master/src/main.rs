@@ -221,6 +221,8 @@ fn idle(mut cx: idle::Context) -> ! {
 /// Performs the next piece of work that has something to do, taking turns from the one
 /// after `turn`: the remote control's next write or pass, one OneWire step of a
 /// temperature tick, the schedule's next action. Returns whether there was one.
+// In line: its one call site (measured 2 B smaller).
+#[inline(always)]
 fn one_piece_of_work(
     turn: &mut u8,
     now: u16,

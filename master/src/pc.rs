@@ -69,9 +69,9 @@ impl PcLink {
     }
 
     /// Executes and answers the frame the parser has just completed, and reports the
-    /// slave it addressed to the schedule. Out of line: the byte loop keeps only what
-    /// it needs live.
-    #[inline(never)]
+    /// slave it addressed to the schedule. In line: its one call site then saves and
+    /// restores the registers once (measured 58 B smaller than out of line).
+    #[inline(always)]
     fn serve(
         &mut self,
         tx: &mut impl Lock<TxQueue>,

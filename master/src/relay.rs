@@ -48,6 +48,8 @@ impl SlaveBus for TwiRelay {
         self.twi.write(device, &frame[..=n]).map_err(|_| BusError)
     }
 
+    // Out of line: measured 14 B smaller than in the PC link's frame logic.
+    #[inline(never)]
     fn read_run(
         &mut self,
         device: u8,

@@ -80,7 +80,8 @@ impl RemoteControl {
 
     /// Takes in one pin change, seen by idle at `now_ms`: the pulse that ended, if any,
     /// and the edge for the link state.
-    #[inline(never)]
+    // In line: its one call site, idle's edge loop (measured 42 B smaller).
+    #[inline(always)]
     pub fn edge(&mut self, (count, levels): Edge, now_ms: u16) {
         let now_us = self.clock.stamp(count);
         let remote = &mut self.remote;

@@ -67,7 +67,8 @@ impl Temperatures {
     /// conversion on sensor 0 so that the first tick reads a measurement (by the tick's
     /// own steps, as the second half of a tick that reads nothing: `local` is left as it
     /// is). The watchdog is fed once per search pass (~14 ms).
-    #[inline(never)]
+    // In line: its one call site, idle's boot (measured 120 B smaller).
+    #[inline(always)]
     pub fn discover(
         &mut self,
         wire: &mut OneWire,

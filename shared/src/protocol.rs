@@ -205,15 +205,16 @@ impl Writes<'_> {
         let [id, rest @ ..] = self.bytes else {
             return None;
         };
-        let size = self.sizes.size_of(*id)?;
-        let (raw, tail) = match (size, rest) {
-            (1, [lo, tail @ ..]) => (u16::from(*lo), tail),
-            (2, [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
+        // Bit 0 of the code: a two-byte register.
+        let two = self.sizes.code(*id)? & 1;
+        let (raw, tail) = match (two, rest) {
+            (0, [lo, tail @ ..]) => (u16::from(*lo), tail),
+            (_, [lo, hi, tail @ ..]) => (u16::from_le_bytes([*lo, *hi]), tail),
             _ => return None,
         };
         self.remaining -= 1;
         self.bytes = tail;
-        Some((Write { id: *id, raw }, size))
+        Some((Write { id: *id, raw }, two + 1))
     }
 }
 

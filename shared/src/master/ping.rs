@@ -333,6 +333,8 @@ impl Schedule {
     }
 
     /// Advances the ping after one of its actions.
+    // Out of line: measured 6 B smaller than in `feed`.
+    #[inline(never)]
     fn ping_result(&mut self, outcome: Outcome, at: u16, latch: &mut MasterLatch) {
         let Some((d, stage)) = self.ping else {
             return;

@@ -6,7 +6,6 @@ use super::sizes::Sizes;
 use super::{Command, Frame, FrameError, Rejected, Request, SizesOf, Writes};
 use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
-use crate::regs::{FLAG_SIZE_MASK, FLAG_WRITABLE};
 
 /// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
 // In declaration order, the count first: the AVR reaches it from the parser's address
@@ -163,11 +162,12 @@ fn parse_writes(payload: &[u8], sizes: Sizes) -> Result<Writes<'_>, FrameError> 
         let [id, after_id @ ..] = rest else {
             return Err(FrameError::LengthMismatch);
         };
-        let flags = sizes.flags(*id).ok_or(FrameError::UnknownRegister)?;
-        read_only |= flags & FLAG_WRITABLE == 0;
-        rest = match (flags & FLAG_SIZE_MASK, after_id) {
-            (1, [_, tail @ ..]) => tail,
-            (2, [_, _, tail @ ..]) => tail,
+        // Bit 0: a two-byte register; bit 1: writable.
+        let code = sizes.code(*id).ok_or(FrameError::UnknownRegister)?;
+        read_only |= code & 2 == 0;
+        rest = match (code & 1, after_id) {
+            (0, [_, tail @ ..]) => tail,
+            (_, [_, _, tail @ ..]) => tail,
             _ => return Err(FrameError::LengthMismatch),
         };
     }

@@ -19,14 +19,9 @@ fn hypothetical(id: u8) -> Option<u8> {
     }
 }
 
-crate::flash_table! {
-    /// [`hypothetical`] as a flag table (sizes only: the framing reads no writability).
-    static HYPOTHETICAL_FLAGS: [u8; 4] = [1, 1, 2, 2];
-}
-
 /// [`hypothetical`] as the parser reads it, for any device.
 fn hypothetical_sizes(_device: u8) -> Option<Sizes> {
-    Some(Sizes::new(HYPOTHETICAL_FLAGS.as_slice()))
+    Some(Sizes::HYPOTHETICAL)
 }
 
 const EXAMPLE_1: [u8; 13] = [

@@ -55,6 +55,9 @@ pub fn register_raw(half: i16) -> u16 {
 }
 
 /// The raw TEMP register value of a scratchpad read from a sensor, if its CRC is right.
+// In line: its one caller, the tick's last step, then needs no call of its own (measured
+// 34 B smaller).
+#[inline(always)]
 pub fn reading(scratchpad: &[u8; SCRATCHPAD_LEN]) -> Result<u16, ReadingError> {
     if crc8(scratchpad) != 0 {
         return Err(ReadingError::BadCrc);
