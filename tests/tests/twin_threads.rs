@@ -21,18 +21,21 @@ use hostctl::port::Port;
 use twin::{Rover, WheelState};
 use twin_support::{drive_speed, EmuClock};
 
+/// Each chunk of master output with the emulated µs it arrived at.
+type Output = Vec<(u64, Vec<u8>)>;
+
 /// What one run saw: every chunk of master output with the emulated time it was read at,
 /// and the six wheels' states after each update().
 #[derive(Debug, PartialEq)]
 struct Record {
-    output: Vec<(u64, Vec<u8>)>,
+    output: Output,
     wheels: Vec<Vec<WheelState>>,
 }
 
 /// A serial port onto the twin that logs every byte the master sends.
 struct RecordingPort {
     twin: Rc<RefCell<Rover>>,
-    log: Rc<RefCell<Vec<(u64, Vec<u8>)>>>,
+    log: Rc<RefCell<Output>>,
     timeout_us: u64,
     pending: VecDeque<u8>,
 }
