@@ -66,15 +66,14 @@ pub fn mul(a: Fix, b: Fix) -> Fix {
 }
 
 /// Saturating `I16F16` operations, one out-of-line copy each: the `fixed` crate's are
-/// inlined at every use, 40 to 90 bytes each on the AVR. Every saturating operation of
-/// the slave goes through these.
+/// inlined at every use, 40 to 90 bytes each on the AVR. Every saturating sum and
+/// difference of the slave goes through these (its one saturating |x|, the encoder's,
+/// is two compares in line).
 pub(crate) trait Saturating {
     /// `self + other`, saturating.
     fn add_sat(self, other: Self) -> Self;
     /// `self − other`, saturating.
     fn sub_sat(self, other: Self) -> Self;
-    /// `|self|`, saturating (|−32768| is the largest value).
-    fn abs_sat(self) -> Self;
 }
 
 impl Saturating for Fix {
@@ -86,11 +85,6 @@ impl Saturating for Fix {
     #[inline(never)]
     fn sub_sat(self, other: Fix) -> Fix {
         self.saturating_sub(other)
-    }
-
-    #[inline(never)]
-    fn abs_sat(self) -> Fix {
-        self.saturating_abs()
     }
 }
 

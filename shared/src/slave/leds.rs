@@ -95,7 +95,7 @@ const fn low(now_ms: u32) -> Ms {
 /// exception latch changes, or on a ping or a debug write; [`Leds::levels`] keeps its
 /// last result until then, so most ticks only compare.
 ///
-/// Deadlines are 16-bit ([`Ms`]): the levels are computed again at least every 101 ms
+/// Deadlines are 16-bit (`Ms`): the levels are computed again at least every 101 ms
 /// (the heartbeat), and each computation drops a passed ping or debug deadline and
 /// moves a passed display deadline up to now, so none is ever 32.8 s stale, where a
 /// wrapped 16-bit clock would take it for a future one.

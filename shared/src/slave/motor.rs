@@ -5,7 +5,7 @@ use super::current::CurrentFilter;
 use super::divide::div_1000;
 use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
 use super::pot::{Calibration, ADC_MAX};
-use super::scale::Scale;
+use super::scale::{Scale, Unmapping};
 use super::state::LocalFault;
 use crate::pid::{Duty, Fix, Gains, Pid, Step};
 use crate::regs::{id, DS};
@@ -39,6 +39,24 @@ const THRESHOLD: Scale = Scale::of(&DS, id::REGDS_DRIVE_OVERCURRENTTHRESH);
 const STALL_CHECK: Scale = Scale::of(&DS, id::REGDS_DRIVE_STALLCHECK);
 const DEAD_ZONE: Scale = Scale::of(&DS, id::REGDS_DRIVE_DEADZONE);
 const CALIB: Scale = Scale::of(&DS, id::REGDS_STEER_CALIBMIN);
+
+/// A position motor's [`Kind::param_scale`] as a table in [`Param`] order, for
+/// [`Params::set`]. Read from RAM (55 B of `.data`), it costs less flash than a `match`
+/// whose every arm loads its scale as immediates. (The drive's two own scales stay
+/// immediates: a table entry would cost as much as their loads.)
+const PARAM_UNMAPPINGS: [Unmapping; 11] = [
+    POSITION_REQUIRED.unmapping(),
+    POSITION_P.unmapping(),
+    I_GAIN.unmapping(),
+    D_GAIN.unmapping(),
+    CAP.unmapping(),
+    DECAY.unmapping(),
+    THRESHOLD.unmapping(),
+    STALL_CHECK.unmapping(),
+    DEAD_ZONE.unmapping(),
+    CALIB.unmapping(),
+    CALIB.unmapping(),
+];
 
 const DRIVE_ACTUAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_ACTUALSPEED);
 const DRIVE_ERROR: Scale = Scale::of(&DS, id::REGDS_DRIVE_ERROR);
@@ -76,6 +94,17 @@ impl Kind {
             (_, Param::StallCheck) => STALL_CHECK,
             (_, Param::DeadZone) => DEAD_ZONE,
             (_, Param::CalibMin | Param::CalibMax) => CALIB,
+        }
+    }
+
+    /// [`Kind::param_scale`]'s [`Unmapping`], from a table in RAM (`PARAM_UNMAPPINGS`).
+    #[inline(always)]
+    pub fn param_unmapping(self, param: Param) -> Unmapping {
+        match (self, param) {
+            (Kind::Drive, Param::Required) => DRIVE_REQUIRED.unmapping(),
+            (Kind::Drive, Param::P) => DRIVE_P.unmapping(),
+            // `Param` has 11 values: no bounds-check failure path is kept.
+            _ => PARAM_UNMAPPINGS[param as usize],
         }
     }
 
@@ -127,23 +156,25 @@ impl Params {
     #[inline(never)]
     pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
         // One conversion for every parameter, then one store.
-        let value = kind.param_scale(param).unmap(raw);
+        let value = kind.param_unmapping(param).unmap(raw);
         let g = &mut self.gains;
-        match param {
-            Param::Threshold => self.threshold = Scale::whole(value),
+        // The seven plain values through one store (one copy of its four byte stores).
+        let slot = match param {
+            Param::Threshold => return self.threshold = Scale::whole(value),
             Param::StallCheck => {
-                self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
+                return self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
             }
-            Param::Required => self.required = value,
-            Param::P => g.p = value,
-            Param::I => g.i = value,
-            Param::D => g.d = value,
-            Param::Cap => g.cap = value,
-            Param::Decay => g.decay = value,
-            Param::DeadZone => g.dead_zone = value,
-            Param::CalibMin => self.calibration.set_min(value),
-            Param::CalibMax => self.calibration.set_max(value),
-        }
+            Param::CalibMin => return self.calibration.set_min(value),
+            Param::CalibMax => return self.calibration.set_max(value),
+            Param::Required => &mut self.required,
+            Param::P => &mut g.p,
+            Param::I => &mut g.i,
+            Param::D => &mut g.d,
+            Param::Cap => &mut g.cap,
+            Param::Decay => &mut g.decay,
+            Param::DeadZone => &mut g.dead_zone,
+        };
+        *slot = value;
     }
 }
 
@@ -502,6 +533,40 @@ fn interval_ms(us: u32) -> u16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_unmapping_table_holds_each_kind_and_params_scale() {
+        use Param::*;
+        let params = [
+            Required, P, I, D, Cap, Decay, Threshold, StallCheck, DeadZone, CalibMin, CalibMax,
+        ];
+        for kind in [Kind::Drive, Kind::Position] {
+            for param in params {
+                let table = kind.param_unmapping(param);
+                assert_eq!(
+                    table,
+                    kind.param_scale(param).unmapping(),
+                    "{kind:?} {param:?}"
+                );
+                for raw in [0, 1, 127, 254, 0x7fff, 0xfffe, u16::MAX] {
+                    assert_eq!(
+                        table.unmap(raw),
+                        kind.param_scale(param).unmap(raw),
+                        "{kind:?} {param:?} {raw}"
+                    );
+                }
+            }
+        }
+        // The drive's REQSPEED and PGAIN differ from a position motor's.
+        assert_ne!(
+            Kind::Drive.param_unmapping(Required),
+            Kind::Position.param_unmapping(Required)
+        );
+        assert_ne!(
+            Kind::Drive.param_unmapping(P),
+            Kind::Position.param_unmapping(P)
+        );
+    }
 
     #[test]
     fn monitors_are_fresh_at_power_up_and_after_each_remap_only() {

@@ -36,7 +36,38 @@ pub struct Scale {
     reciprocal: u32,
 }
 
+/// What [`Scale::unmap`] reads of a [`Scale`], in 5 bytes on the AVR: the entry type
+/// of a table of scales chosen at run time, which costs less code than choosing the
+/// constants by a `match` (each arm loads its own immediates).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Unmapping {
+    /// a, the value of raw 0.
+    min: i16,
+    /// b − a.
+    span: u16,
+    /// F's high byte: F is 65534 (0xff) or 254 (0x00), and its low byte always 0xfe.
+    full_high: u8,
+}
+
+impl Unmapping {
+    /// [`Scale::unmap`] of the scale this came from.
+    #[inline(always)]
+    pub fn unmap(self, raw: u16) -> Fix {
+        let full = u16::from_le_bytes([0xfe, self.full_high]);
+        unmap(raw, self.min, self.span, full)
+    }
+}
+
 impl Scale {
+    /// The part of the scale [`Scale::unmap`] uses, for a table.
+    pub const fn unmapping(self) -> Unmapping {
+        Unmapping {
+            min: self.min,
+            span: self.span,
+            full_high: (self.full >> 8) as u8,
+        }
+    }
+
     /// The scale of register `id` of `table`, evaluated at compile time. Fails to compile
     /// (a const panic) if the register is unmapped or its range has ends that are not
     /// integers within ±32767.
