@@ -11,6 +11,7 @@
 pub mod adc;
 pub mod cpu;
 pub mod eeprom;
+pub mod fault_entry;
 pub mod onewire;
 pub mod pcint;
 pub mod pin;

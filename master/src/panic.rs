@@ -3,24 +3,10 @@
 //! expire. The reboot hard-resets every slave (reference §5), which stops every motor,
 //! and sends the banner, so the PC sees the fault.
 //!
-//! An interrupt that no task binds (a stray enable: a fault of the firmware) takes the
-//! same path through `__vector_default`, instead of avr-libc's default jump to address 0,
-//! a restart that would skip the watchdog's reboot. No call in the firmware can panic
-//! today, so the vector also keeps the handler in the image, where the emulator test
-//! (tests/tests/master_panic.rs) runs it.
+//! An interrupt that no task binds takes the same path ([`drivers::fault_entry`]);
+//! `tests/tests/master_panic.rs` runs it on the real image.
 
-use core::panic::PanicInfo;
-
-#[panic_handler]
-fn panic(_info: &PanicInfo) -> ! {
-    halt()
-}
-
-/// The vector every unbound interrupt jumps to (avr-libc's crt calls it by this name).
-#[no_mangle]
-extern "avr-interrupt" fn __vector_default() {
-    halt()
-}
+drivers::fault_entries!(halt);
 
 /// Interrupts off, D13 lit, then wait for the watchdog.
 #[inline(always)]

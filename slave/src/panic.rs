@@ -2,27 +2,12 @@
 //! direction pin low. Then interrupts go off for good, both LEDs light (the "no motor"
 //! latch), and the 1-s watchdog, no longer fed, resets the board into its boot exception.
 //!
-//! An interrupt that no task binds (a stray enable: a fault of the firmware, not of the
-//! rover) takes the same path through `__vector_default`, instead of avr-libc's default
-//! jump to address 0, a restart that would skip the watchdog and leave the last demand on
-//! the pins until boot sets them. No call in the firmware can panic today, so the vector
-//! also keeps the handler in the image, where the emulator test
-//! (tests/tests/slave_panic.rs) runs it.
-
-use core::panic::PanicInfo;
+//! An interrupt that no task binds takes the same path ([`drivers::fault_entry`]);
+//! `tests/tests/slave_panic.rs` runs it on the real images.
 
 use crate::stage::{Led1, Led2, M1Neg, M1Pos, M2Neg, M2Pos};
 
-#[panic_handler]
-fn panic(_info: &PanicInfo) -> ! {
-    halt()
-}
-
-/// The vector every unbound interrupt jumps to (avr-libc's crt calls it by this name).
-#[no_mangle]
-extern "avr-interrupt" fn __vector_default() {
-    halt()
-}
+drivers::fault_entries!(halt);
 
 /// Motors off, interrupts off, both LEDs lit, then wait for the watchdog.
 #[inline(always)]

@@ -9,76 +9,21 @@
 mod twin_support;
 
 use std::cell::RefCell;
-use std::collections::VecDeque;
-use std::io::{self, Read, Write};
 use std::rc::Rc;
 use std::time::Duration;
 
 use hostctl::cmd::live::Poller;
 use hostctl::cmd::pc::{self, Motor, Op, Pc, WHEELS};
 use hostctl::link::Link;
-use hostctl::port::Port;
 use twin::{Rover, WheelState};
-use twin_support::{drive_speed, EmuClock};
-
-/// Each chunk of master output with the emulated µs it arrived at.
-type Output = Vec<(u64, Vec<u8>)>;
+use twin_support::{drive_speed, EmuClock, EmuPort, OutputLog};
 
 /// What one run saw: every chunk of master output with the emulated time it was read at,
 /// and the six wheels' states after each update().
 #[derive(Debug, PartialEq)]
 struct Record {
-    output: Output,
+    output: Vec<(u64, Vec<u8>)>,
     wheels: Vec<Vec<WheelState>>,
-}
-
-/// A serial port onto the twin that logs every byte the master sends.
-struct RecordingPort {
-    twin: Rc<RefCell<Rover>>,
-    log: Rc<RefCell<Output>>,
-    timeout_us: u64,
-    pending: VecDeque<u8>,
-}
-
-impl Read for RecordingPort {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        if self.pending.is_empty() {
-            let mut twin = self.twin.borrow_mut();
-            let got = twin
-                .uart_read_some(self.timeout_us)
-                .map_err(io::Error::other)?;
-            if !got.is_empty() {
-                self.log.borrow_mut().push((twin.micros(), got.clone()));
-            }
-            self.pending.extend(got);
-        }
-        if self.pending.is_empty() {
-            return Err(io::Error::from(io::ErrorKind::TimedOut));
-        }
-        let n = buf.len().min(self.pending.len());
-        for (slot, byte) in buf.iter_mut().zip(self.pending.drain(..n)) {
-            *slot = byte;
-        }
-        Ok(n)
-    }
-}
-
-impl Write for RecordingPort {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.twin.borrow_mut().uart_send(buf);
-        Ok(buf.len())
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        Ok(())
-    }
-}
-
-impl Port for RecordingPort {
-    fn set_timeout(&mut self, timeout: Duration) -> io::Result<()> {
-        self.timeout_us = u64::try_from(timeout.as_micros()).unwrap_or(u64::MAX);
-        Ok(())
-    }
 }
 
 /// Runs the scripted drive on a twin with `threads` threads.
@@ -91,13 +36,8 @@ fn drive(threads: usize) -> Record {
     let rover = Rover::with_config(&config).expect("the twin builds (run scripts/firmware.sh)");
     assert_eq!(rover.threads(), threads, "worker threads started");
     let twin = Rc::new(RefCell::new(rover));
-    let log = Rc::new(RefCell::new(Vec::new()));
-    let port = RecordingPort {
-        twin: Rc::clone(&twin),
-        log: Rc::clone(&log),
-        timeout_us: 1_000_000,
-        pending: VecDeque::new(),
-    };
+    let log: OutputLog = Rc::new(RefCell::new(Vec::new()));
+    let port = EmuPort::recording(Rc::clone(&twin), Rc::clone(&log));
     let mut link = Link::connect(port, "the twin", Duration::ZERO).expect("banner with Ready");
     let mut clock = EmuClock::new(Rc::clone(&twin));
     let poller = Poller::new().unwrap();

@@ -27,11 +27,15 @@ use twin::Rover;
 /// The twin, shared by the port and the clock of one session.
 pub type Twin = Rc<RefCell<Rover>>;
 
+/// Chunks of master output, each with the emulated µs it was read at.
+pub type OutputLog = Rc<RefCell<Vec<(u64, Vec<u8>)>>>;
+
 /// A serial port onto the twin's master, in emulated time.
 pub struct EmuPort {
     twin: Twin,
     timeout_us: u64,
     pending: VecDeque<u8>,
+    log: Option<OutputLog>,
 }
 
 impl EmuPort {
@@ -41,6 +45,15 @@ impl EmuPort {
             twin,
             timeout_us: 1_000_000,
             pending: VecDeque::new(),
+            log: None,
+        }
+    }
+
+    /// The same, also logging every chunk the master sends into `log`.
+    pub fn recording(twin: Twin, log: OutputLog) -> EmuPort {
+        EmuPort {
+            log: Some(log),
+            ..EmuPort::new(twin)
         }
     }
 }
@@ -48,11 +61,13 @@ impl EmuPort {
 impl Read for EmuPort {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         if self.pending.is_empty() {
-            let got = self
-                .twin
-                .borrow_mut()
+            let mut twin = self.twin.borrow_mut();
+            let got = twin
                 .uart_read_some(self.timeout_us)
                 .map_err(io::Error::other)?;
+            if let Some(log) = self.log.as_ref().filter(|_| !got.is_empty()) {
+                log.borrow_mut().push((twin.micros(), got.clone()));
+            }
             self.pending.extend(got);
         }
         if self.pending.is_empty() {
