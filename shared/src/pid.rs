@@ -15,7 +15,7 @@
 //! (±32768) where the original's float would keep growing: a difference no working
 //! program can see, since the duty saturates at 255 long before.
 
-use crate::slave::product::wide;
+use crate::slave::product::fixed;
 use fixed::types::I16F16;
 
 /// The fixed-point number type of the slave's control maths: 16 integer bits
@@ -24,45 +24,12 @@ pub type Fix = I16F16;
 
 /// `a·b`, saturating at the `I16F16` limits and truncating toward zero.
 ///
-/// A zero operand (a zero gain, integral or error) returns at once. Otherwise four
-/// 16×16→32-bit products (see [`wide`]) instead of the 64-bit multiplication a widening
-/// multiply needs. One out-of-line copy with its zero tests: tested at each call site
+/// A zero operand (a zero gain, integral or error) returns at once. One out-of-line
+/// routine ([`fixed`]: assembly on the AVR) with its zero tests: tested at each call site
 /// instead, they cost 240 B of flash to save some 20–70 cycles a moving tick.
-#[inline(never)]
+#[inline(always)]
 pub fn mul(a: Fix, b: Fix) -> Fix {
-    if a == Fix::ZERO || b == Fix::ZERO {
-        return Fix::ZERO;
-    }
-    let (a, b) = (a.to_bits(), b.to_bits());
-    let negative = (a ^ b) < 0;
-    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
-    // The smaller magnitude second: b < 1 (a decay, most integrals) is the usual case.
-    let (ua, ub) = if ub >> 16 == 0 { (ua, ub) } else { (ub, ua) };
-    let (ah, al) = ((ua >> 16) as u16, ua as u16);
-    let (bh, bl) = ((ub >> 16) as u16, ub as u16);
-    // |a·b| in 16.16 = ah·bh·2^16 + ah·bl + al·bh + al·bl/2^16, with ah, bh ≤ 2^15.
-    // Each of the four products once: the two both cases need first.
-    // ah·bl + al·bl/2^16 ≤ 2^15·(2^16 − 1) + 2^16 − 1 < 2^32, no overflow.
-    let low = wide(ah, bl) + (wide(al, bl) >> 16);
-    let magnitude = if bh == 0 {
-        // |b| < 1: the two products are all of it.
-        low
-    } else {
-        // From ah·bh ≥ 2^15 on the product is past every limit: 2^15·2^16 = 2^31 is,
-        // and the saturating sums only grow.
-        let high = wide(ah, bh).min(0x8000);
-        (high << 16)
-            .saturating_add(low)
-            .saturating_add(wide(al, bh))
-    };
-    // 2^31 for a negative product, 2^31 − 1 for a positive one.
-    let limit = (1u32 << 31) - u32::from(!negative);
-    let magnitude = magnitude.min(limit);
-    Fix::from_bits(if negative {
-        0i32.wrapping_sub_unsigned(magnitude)
-    } else {
-        magnitude as i32
-    })
+    Fix::from_bits(fixed(a.to_bits(), b.to_bits()))
 }
 
 /// Saturating `I16F16` operations, one out-of-line copy each: the `fixed` crate's are
