@@ -15,6 +15,8 @@
 //! (±32768) where the original's float would keep growing: a difference no working
 //! program can see, since the duty saturates at 255 long before.
 
+pub mod sum;
+
 use crate::slave::product::fixed;
 use fixed::types::I16F16;
 
@@ -32,10 +34,10 @@ pub fn mul(a: Fix, b: Fix) -> Fix {
     Fix::from_bits(fixed(a.to_bits(), b.to_bits()))
 }
 
-/// Saturating `I16F16` operations, one out-of-line copy each: the `fixed` crate's are
-/// inlined at every use, 40 to 90 bytes each on the AVR. Every saturating sum and
-/// difference of the slave goes through these (its one saturating |x|, the encoder's,
-/// is two compares in line).
+/// Saturating `I16F16` operations, one out-of-line copy each ([`sum`]: assembly on the
+/// AVR): the `fixed` crate's are inlined at every use, 40 to 90 bytes each on the AVR.
+/// Every saturating sum and difference of the slave goes through these (its one
+/// saturating |x|, the encoder's, is two compares in line).
 pub(crate) trait Saturating {
     /// `self + other`, saturating.
     fn add_sat(self, other: Self) -> Self;
@@ -44,14 +46,14 @@ pub(crate) trait Saturating {
 }
 
 impl Saturating for Fix {
-    #[inline(never)]
+    #[inline(always)]
     fn add_sat(self, other: Fix) -> Fix {
-        self.saturating_add(other)
+        Fix::from_bits(sum::add(self.to_bits(), other.to_bits()))
     }
 
-    #[inline(never)]
+    #[inline(always)]
     fn sub_sat(self, other: Fix) -> Fix {
-        self.saturating_sub(other)
+        Fix::from_bits(sum::sub(self.to_bits(), other.to_bits()))
     }
 }
 

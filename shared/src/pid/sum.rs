@@ -1,0 +1,99 @@
+//! The saturating `I16F16` sum and difference of [`super::Saturating`], in bits.
+//!
+//! On the AVR each is one short routine in assembly: the 32-bit sum, and on a signed
+//! overflow the limit the carry points to (24 B each, where the `fixed` crate's
+//! saturating operations compile to 66 and 70 B). Elsewhere they are the standard
+//! library's saturating operations, the reference the assembly is checked against.
+//!
+//! The crate denies `unsafe`; this module allows it for its assembly, as
+//! [`crate::slave::product`] does.
+#![allow(unsafe_code)]
+
+/// `a + b`, saturating at `i32::MIN`/`i32::MAX`.
+///
+/// On the AVR: after the 32-bit sum, an overflow (V) means both operands had the sign the
+/// sum lacks; a carry out then means both were negative. The limit is 2^31 − 1 + C.
+#[cfg(target_arch = "avr")]
+#[inline(never)]
+pub fn add(a: i32, b: i32) -> i32 {
+    let (mut low, mut high) = (a as u16, (a >> 16) as u16);
+    let (b_low, b_high) = (b as u16, (b >> 16) as u16);
+    // SAFETY: register arithmetic only (no memory, no stack) on the operands' registers;
+    // r1 (the zero register) is only read; SREG is not preserved.
+    unsafe {
+        core::arch::asm!(
+            "add r22, r18",
+            "adc r23, r19",
+            "adc r24, r20",
+            "adc r25, r21",
+            "brvc 1f",
+            // `ldi` keeps the flags: 0x7fffffff + C.
+            "ldi r22, 0xff",
+            "ldi r23, 0xff",
+            "ldi r24, 0xff",
+            "ldi r25, 0x7f",
+            "adc r22, r1",
+            "adc r23, r1",
+            "adc r24, r1",
+            "adc r25, r1",
+            "1:",
+            inout("r23r22") low,
+            inout("r25r24") high,
+            in("r19r18") b_low,
+            in("r21r20") b_high,
+            options(pure, nomem, nostack),
+        );
+    }
+    (u32::from(high) << 16 | u32::from(low)) as i32
+}
+
+/// `a − b`, saturating at `i32::MIN`/`i32::MAX`.
+///
+/// On the AVR: after the 32-bit difference, an overflow (V) means the operands' signs
+/// differed; a borrow (C) then means a was the non-negative one. The limit is
+/// 2^31 − C.
+#[cfg(target_arch = "avr")]
+#[inline(never)]
+pub fn sub(a: i32, b: i32) -> i32 {
+    let (mut low, mut high) = (a as u16, (a >> 16) as u16);
+    let (b_low, b_high) = (b as u16, (b >> 16) as u16);
+    // SAFETY: register arithmetic only (no memory, no stack) on the operands' registers;
+    // r1 (the zero register) is only read; SREG is not preserved.
+    unsafe {
+        core::arch::asm!(
+            "sub r22, r18",
+            "sbc r23, r19",
+            "sbc r24, r20",
+            "sbc r25, r21",
+            "brvc 1f",
+            // `ldi` keeps the flags: 0x80000000 − C.
+            "ldi r22, 0x00",
+            "ldi r23, 0x00",
+            "ldi r24, 0x00",
+            "ldi r25, 0x80",
+            "sbc r22, r1",
+            "sbc r23, r1",
+            "sbc r24, r1",
+            "sbc r25, r1",
+            "1:",
+            inout("r23r22") low,
+            inout("r25r24") high,
+            in("r19r18") b_low,
+            in("r21r20") b_high,
+            options(pure, nomem, nostack),
+        );
+    }
+    (u32::from(high) << 16 | u32::from(low)) as i32
+}
+
+/// `a + b`, saturating at `i32::MIN`/`i32::MAX`.
+#[cfg(not(target_arch = "avr"))]
+pub fn add(a: i32, b: i32) -> i32 {
+    a.saturating_add(b)
+}
+
+/// `a − b`, saturating at `i32::MIN`/`i32::MAX`.
+#[cfg(not(target_arch = "avr"))]
+pub fn sub(a: i32, b: i32) -> i32 {
+    a.saturating_sub(b)
+}
