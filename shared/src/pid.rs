@@ -103,12 +103,14 @@ impl Duty {
     /// The duty for a control value: m = trunc(u) toward zero, duty = min(|m|, 255),
     /// forward when m ≥ 0.
     pub fn from_control(u: Fix) -> Duty {
-        let m = u.round_to_zero().to_bits() >> 16;
-        let magnitude = u8::try_from(m.unsigned_abs()).unwrap_or(u8::MAX);
-        let direction = if m >= 0 {
-            Direction::Forward
-        } else {
+        // |m| = ⌊|u|⌋, the high half of |u|'s bits; m < 0 when u < 0 and |m| ≠ 0.
+        let bits = u.to_bits();
+        let whole = (bits.unsigned_abs() >> 16) as u16;
+        let magnitude = u8::try_from(whole).unwrap_or(u8::MAX);
+        let direction = if bits < 0 && whole != 0 {
             Direction::Reverse
+        } else {
+            Direction::Forward
         };
         Duty {
             magnitude,
@@ -131,7 +133,8 @@ pub struct Gains {
     pub cap: Fix,
     /// Integral multiplier per update.
     pub decay: Fix,
-    /// Errors smaller than this (and not zero) count as zero.
+    /// Errors smaller than this (and not zero) count as zero. Never negative (its
+    /// register's range is 0..50): the update compares |e| with its bits unsigned.
     pub dead_zone: Fix,
 }
 
@@ -222,9 +225,10 @@ impl Pid {
     /// One update of the position form: u = P·e + Ki·I + Kd·D.
     ///
     /// At rest (e = 0 after the dead zone, I = 0, the measurement unchanged, cap ≥ 0:
-    /// a motor holding its angle, the usual case) every term is 0 and stays 0, so the
-    /// update returns [`Step::REST`] without the integral and derivative arithmetic;
-    /// the result is the same as the full update's (tested).
+    /// a motor holding its angle) every term is 0 and stays 0: the update returns
+    /// [`Step::REST`] (tested). Its products of 0 return at once ([`mul`]); the motor
+    /// skips the next such update altogether (`Motor::holds`), so the PID has no rest
+    /// path of its own (186 B of flash for one update per settling).
     #[inline(always)]
     pub fn position(&mut self, gains: &Gains, required: Fix, actual: Fix) -> Step {
         self.update(Form::Position, gains, required, actual)
@@ -237,21 +241,12 @@ impl Pid {
         self.update(Form::Speed, gains, required, actual)
     }
 
-    /// Both forms in one routine: they differ only in the rest path and in how u is made
-    /// from the terms' sum, so a board with both (drive/steer) carries one copy of the
-    /// rest. A board with one form (lift/lift) gets it specialised.
+    /// Both forms in one routine: they differ only in how u is made from the terms' sum,
+    /// so a board with both (drive/steer) carries one copy of the rest. A board with one
+    /// form (lift/lift) gets it specialised.
     #[inline(never)]
     fn update(&mut self, form: Form, gains: &Gains, required: Fix, actual: Fix) -> Step {
         let error = dead_zoned(gains, required, actual);
-        if form == Form::Position
-            && error == Fix::ZERO
-            && self.integral == Fix::ZERO
-            && self.prev_actual == actual
-            && gains.cap >= Fix::ZERO
-        {
-            self.control = Fix::ZERO;
-            return Step::REST;
-        }
         let (integral, deriv) = self.terms(gains, error, actual);
         let sum = sum_terms(gains, error, integral, deriv);
         let control = match form {
@@ -300,7 +295,8 @@ impl Pid {
 /// e = r − a, 0 when 0 < |e| < dead zone.
 fn dead_zoned(gains: &Gains, required: Fix, actual: Fix) -> Fix {
     let error = required.sub_sat(actual);
-    if error != Fix::ZERO && below(error, gains.dead_zone) {
+    // |e| < z: an error of 0 stays 0 either way, and z ≥ 0 (see [`Gains::dead_zone`]).
+    if magnitude(error) < gains.dead_zone.to_bits() as u32 {
         Fix::ZERO
     } else {
         error
@@ -401,8 +397,9 @@ mod tests {
     }
 
     #[test]
-    fn the_rest_path_equals_the_full_update() {
-        let values = [-3.0, -0.5, -0.25, 0.0, 0.25, 0.5, 20.0];
+    fn an_update_at_rest_returns_rest_and_keeps_returning_it() {
+        // Every state at rest (I = 0, the measurement unchanged, e dead-zoned to 0 or 0,
+        // cap ≥ 0): Step::REST, the state as before but u = 0, and the same again.
         let gains = |p: f64, cap: f64, dead_zone: f64| Gains {
             p: fix(p),
             i: fix(2.0),
@@ -411,38 +408,70 @@ mod tests {
             decay: fix(0.95),
             dead_zone: fix(dead_zone),
         };
+        let values = [-3.0, -0.5, -0.25, 0.0, 0.25, 0.5, 20.0];
         let mut rests = 0;
-        for g in [
-            gains(0.0, 300.0, 0.5),
-            gains(3.0, 0.0, 0.0),
-            gains(1.0, -5.0, 1.0),
-        ] {
-            for prev in values {
-                for actual in values {
-                    for required in values {
-                        for integral in [0.0, 0.75] {
-                            let mut a = Pid {
-                                integral: fix(integral),
-                                prev_actual: fix(prev),
-                                control: fix(7.0),
-                            };
-                            let mut b = a;
-                            let (r, x) = (fix(required), fix(actual));
-                            let fast = a.position(&g, r, x);
-                            // The full update, as before the rest path existed.
-                            let error = dead_zoned(&g, r, x);
-                            let (i, d) = b.terms(&g, error, x);
-                            let control = sum_terms(&g, error, i, d);
-                            b.control = control;
-                            assert_eq!(fast, step(error, i, d, control));
-                            assert_eq!(a, b);
-                            rests += usize::from(fast == Step::REST);
-                        }
+        for g in [gains(0.0, 300.0, 0.5), gains(3.0, 0.0, 0.0)] {
+            for actual in values {
+                for required in values {
+                    let (r, x) = (fix(required), fix(actual));
+                    let mut pid = Pid {
+                        integral: Fix::ZERO,
+                        prev_actual: x,
+                        control: fix(7.0),
+                    };
+                    let step = pid.position(&g, r, x);
+                    let at_rest = (r - x).abs() < g.dead_zone || r == x;
+                    assert_eq!(step == Step::REST, at_rest, "{required} {actual}");
+                    assert_eq!(step.is_rest(), at_rest, "{required} {actual}");
+                    if at_rest {
+                        rests += 1;
+                        let state = Pid {
+                            integral: Fix::ZERO,
+                            prev_actual: x,
+                            control: Fix::ZERO,
+                        };
+                        assert_eq!(pid, state);
+                        assert_eq!(pid.position(&g, r, x), Step::REST);
+                        assert_eq!(pid, state);
                     }
                 }
             }
         }
-        assert!(rests > 20, "the rest path was taken {rests} times");
+        // Dead zone 0.5: the 7 equal pairs and the 8 a quarter apart; dead zone 0: the 7.
+        assert_eq!(rests, 15 + 7);
+    }
+
+    #[test]
+    fn duty_equals_the_rounding_toward_zero_form() {
+        // The form it replaced: m = round_to_zero(u) in whole units.
+        let reference = |u: Fix| {
+            let m = u.round_to_zero().to_bits() >> 16;
+            let magnitude = u8::try_from(m.unsigned_abs()).unwrap_or(u8::MAX);
+            let direction = if m >= 0 {
+                Direction::Forward
+            } else {
+                Direction::Reverse
+            };
+            Duty {
+                magnitude,
+                direction,
+            }
+        };
+        let mut cases = 0u32;
+        // Every whole value from −300 to 300 and its neighbours, then a sweep of all bits.
+        for whole in -300i32..=300 {
+            for offset in [-1, 0, 1, 0x8000] {
+                let u = Fix::from_bits((whole << 16).wrapping_add(offset));
+                assert_eq!(Duty::from_control(u), reference(u), "{u}");
+                cases += 1;
+            }
+        }
+        for bits in (i32::MIN..=i32::MAX).step_by(65_521) {
+            let u = Fix::from_bits(bits);
+            assert_eq!(Duty::from_control(u), reference(u), "{u}");
+            cases += 1;
+        }
+        assert!(cases > 65_000, "{cases}");
     }
 
     #[test]
