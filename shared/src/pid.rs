@@ -182,16 +182,23 @@ impl Step {
 
     /// Whether every term and the output are 0 (see [`Step::REST`]).
     pub fn is_rest(&self) -> bool {
-        self.error == Fix::ZERO
-            && self.integral == Fix::ZERO
-            && self.deriv == Fix::ZERO
-            && self.control == Fix::ZERO
+        self.deriv == Fix::ZERO && self.rests()
+    }
+
+    /// Whether, after this position step, another update with the same gains, demand
+    /// and measurement returns [`Step::REST`] and leaves the controller as it is: e = 0
+    /// (the same e again), I = 0 (so (I + e)·δ is 0 again, and cap ≥ 0: a negative cap
+    /// clamps I to the cap) and u = 0 (the controller's u and the duty are already
+    /// those of the rest). D need not be 0: the next D is 0, the measurement being the
+    /// same (tested).
+    pub fn rests(&self) -> bool {
+        self.error == Fix::ZERO && self.integral == Fix::ZERO && self.control == Fix::ZERO
     }
 }
 
-/// The two forms of [`Pid`]'s update.
+/// The two forms of [`Pid`]'s update ([`Pid::update`]).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-enum Form {
+pub enum Form {
     /// u = P·e + Ki·I + Kd·D.
     Position,
     /// u = u_prev + P·e + Ki·I + Kd·D, bled while there is no demand.
@@ -241,11 +248,13 @@ impl Pid {
         self.update(Form::Speed, gains, required, actual)
     }
 
-    /// Both forms in one routine: they differ only in how u is made from the terms' sum,
-    /// so a board with both (drive/steer) carries one copy of the rest. A board with one
-    /// form (lift/lift) gets it specialised.
+    /// One update of either form ([`Pid::position`], [`Pid::speed`]).
+    ///
+    /// Both forms are one routine: they differ only in how u is made from the terms' sum,
+    /// so a board with both (drive/steer) carries one copy of the rest, and its caller
+    /// one call for both motors. A board with one form (lift/lift) gets it specialised.
     #[inline(never)]
-    fn update(&mut self, form: Form, gains: &Gains, required: Fix, actual: Fix) -> Step {
+    pub fn update(&mut self, form: Form, gains: &Gains, required: Fix, actual: Fix) -> Step {
         let error = dead_zoned(gains, required, actual);
         let (integral, deriv) = self.terms(gains, error, actual);
         let sum = sum_terms(gains, error, integral, deriv);
@@ -439,6 +448,54 @@ mod tests {
         }
         // Dead zone 0.5: the 7 equal pairs and the 8 a quarter apart; dead zone 0: the 7.
         assert_eq!(rests, 15 + 7);
+    }
+
+    #[test]
+    fn a_step_that_rests_is_followed_by_rest() {
+        // Any position step for which `rests()` holds: the same demand and measurement
+        // again give Step::REST and leave the controller as it was, whatever D was.
+        let values = [-3.0, -0.5, -0.25, 0.0, 0.25, 0.5, 20.0];
+        let mut rests = 0;
+        let mut moving_rests = 0;
+        for (p, d, cap, decay, dead_zone) in [
+            (0.0, 0.0, 300.0, 0.95, 0.5),
+            (3.0, 0.0, 0.0, 0.0, 0.0),
+            (1.0, -1.5, 50.0, 0.9, 1.0),
+            (1.0, 0.0, -5.0, 0.5, 1.0),
+        ] {
+            let g = Gains {
+                p: fix(p),
+                i: fix(2.0),
+                d: fix(d),
+                cap: fix(cap),
+                decay: fix(decay),
+                dead_zone: fix(dead_zone),
+            };
+            for prev in values {
+                for actual in values {
+                    for required in values {
+                        for integral in [0.0, 0.75, -0.25] {
+                            let mut pid = Pid {
+                                integral: fix(integral),
+                                prev_actual: fix(prev),
+                                control: fix(7.0),
+                            };
+                            let (r, x) = (fix(required), fix(actual));
+                            let step = pid.position(&g, r, x);
+                            if !step.rests() {
+                                continue;
+                            }
+                            rests += 1;
+                            moving_rests += usize::from(step.deriv != Fix::ZERO);
+                            let state = pid;
+                            assert_eq!(pid.position(&g, r, x), Step::REST);
+                            assert_eq!(pid, state);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(rests > 100 && moving_rests > 20, "{rests} {moving_rests}");
     }
 
     #[test]

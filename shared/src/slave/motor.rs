@@ -7,7 +7,7 @@ use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
 use super::pot::{Calibration, ADC_MAX};
 use super::scale::{Scale, Unmapping};
 use super::state::LocalFault;
-use crate::pid::{Duty, Fix, Gains, Pid, Step};
+use crate::pid::{Duty, Fix, Form, Gains, Pid, Step};
 use crate::regs::{id, DS};
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
@@ -255,8 +255,9 @@ pub struct Motor {
     /// [`NO_READING`] when none), and its angle.
     angle_reading: u16,
     angle: Fix,
-    /// The last update was a position update at rest ([`Step::REST`]) outside an
-    /// exception, and no parameter was set since.
+    /// The last update was a position update outside an exception after which the
+    /// same measurement gives [`Step::REST`] ([`Step::rests`]), and no parameter was set
+    /// since.
     at_rest: bool,
     /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
     fresh: bool,
@@ -361,18 +362,22 @@ impl Motor {
             self.hold(kind, actual, cx);
             return None;
         }
-        if cx.in_exception {
-            self.params.required = match kind {
-                Kind::Drive => Fix::ZERO,
-                Kind::Position => actual,
-            };
-        }
-        let gains = &self.params.gains;
-        let step = match kind {
-            Kind::Drive => self.pid.speed(gains, self.params.required, actual),
-            Kind::Position => self.pid.position(gains, self.params.required, actual),
+        let position = kind == Kind::Position;
+        // The demand, overwritten in exception: stored either way, so that the paths
+        // join before the controller's one call for both forms.
+        let required = match (cx.in_exception, position) {
+            (false, _) => self.params.required,
+            (true, true) => actual,
+            (true, false) => Fix::ZERO,
         };
-        self.at_rest = kind == Kind::Position && !cx.in_exception && step.is_rest();
+        self.params.required = required;
+        let form = if position {
+            Form::Position
+        } else {
+            Form::Speed
+        };
+        let step = self.pid.update(form, &self.params.gains, required, actual);
+        self.at_rest = kind == Kind::Position && !cx.in_exception && step.rests();
         self.demand = step.duty;
         let duty = if cx.in_exception {
             0
@@ -393,8 +398,9 @@ impl Motor {
     }
 
     /// Whether an update with `actual` holds the motor at rest: the last update was a
-    /// position update at rest ([`Step::REST`]) outside an exception, no parameter was
-    /// set since, and the measurement is the same. Such an update returns [`Step::REST`]
+    /// position update outside an exception after which the same measurement gives
+    /// [`Step::REST`] ([`Step::rests`]), no parameter was set since, and the measurement
+    /// is the same. Such an update returns [`Step::REST`]
     /// again and leaves the controller, the demand (duty 0) and the fault detector (which
     /// a duty of 0 keeps reset) as they are: [`Motor::hold`], the interval and the
     /// monitoring values, is all that is left of it.
