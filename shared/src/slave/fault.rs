@@ -23,7 +23,7 @@
 //! overcurrent rule's ([`super::current::overcurrent`]).
 
 use super::state::LocalFault;
-use crate::pid::{below, Fix};
+use crate::pid::Fix;
 
 /// STALLCHECK's power-on level (the register reads 0x77).
 pub const STALL_CHECK_POWER_ON: u8 = 120;
@@ -90,26 +90,22 @@ impl FaultDetector {
         current: u8,
         limits: &Limits,
     ) -> Option<LocalFault> {
-        let angle = match motion {
-            Motion::Angle(angle) => angle,
-            Motion::Speed(_) => Fix::ZERO,
+        // What must change by 1 to count as motion, and the anchor a restart keeps: the
+        // speed against 0 (the drive's anchor stays 0), the angle against its anchor.
+        let (value, anchor) = match motion {
+            Motion::Speed(speed) => (speed, Fix::ZERO),
+            Motion::Angle(angle) => (angle, angle),
         };
         if duty <= limits.stall_check {
             self.since_ms = None;
             return None;
         }
         let Some(since) = self.since_ms else {
-            self.restart(now_ms, angle);
+            self.restart(now_ms, anchor);
             return None;
         };
-        let moved = match motion {
-            Motion::Speed(speed) => !below(speed, MOTION_SPEED),
-            Motion::Angle(angle) => {
-                angle.to_bits().abs_diff(self.anchor.to_bits()) >= MOTION_ANGLE.to_bits() as u32
-            }
-        };
-        if moved {
-            self.restart(now_ms, angle);
+        if moved(value.to_bits().wrapping_sub(self.anchor.to_bits())) {
+            self.restart(now_ms, anchor);
             return None;
         }
         if now_ms.wrapping_sub(since) <= u32::from(limits.fault_time_ms) {
@@ -128,5 +124,48 @@ impl FaultDetector {
     fn restart(&mut self, now_ms: u32, angle: Fix) {
         self.since_ms = Some(now_ms);
         self.anchor = angle;
+    }
+}
+
+/// Whether a change of `bits` (I16F16) is motion: |change| ≥ 1 ([`MOTION_SPEED`],
+/// [`MOTION_ANGLE`]). One sum and one unsigned compare: −1 < x < 1 exactly when
+/// x + (1 − 2^−16) lies in 0..2 − 2^−16, and a sum that wraps past `i32::MAX` comes out
+/// negative, which reads as above that range too. A position motor's change never
+/// wraps: angles stay within ±1536° (the calibration's ±512° and span of 1024° at most).
+#[inline(always)]
+fn moved(bits: i32) -> bool {
+    const ONE: i32 = MOTION_SPEED.to_bits();
+    const _: () = assert!(MOTION_ANGLE.to_bits() == ONE);
+    bits.wrapping_add(ONE - 1) as u32 > (2 * ONE - 2) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moved_is_a_magnitude_of_one_or_more() {
+        let edges = [
+            i32::MIN,
+            i32::MIN + 1,
+            -0x1_0001,
+            -0x1_0000,
+            -0xffff,
+            -1,
+            0,
+            1,
+            0xffff,
+            0x1_0000,
+            0x1_0001,
+            i32::MAX - 0xffff,
+            i32::MAX,
+        ];
+        let sweep = (i32::MIN..=i32::MAX).step_by(4_093);
+        let mut cases = 0u32;
+        for bits in edges.into_iter().chain(sweep) {
+            assert_eq!(moved(bits), bits.unsigned_abs() >= 0x1_0000, "{bits:#x}");
+            cases += 1;
+        }
+        assert!(cases > 1_000_000, "{cases}");
     }
 }
