@@ -64,10 +64,14 @@ pub(crate) fn magnitude(x: Fix) -> u32 {
     x.to_bits().unsigned_abs()
 }
 
-/// Whether |x| < `limit`, for any `limit` (never when `limit` ≤ 0).
+/// Whether |x| < `limit` for a constant `limit` of at least 2^−16 and below 2^14: one
+/// sum and one unsigned compare, no |x|. −l < x < l exactly when x + l − 2^−16 lies in
+/// 0..2l − 2^−16 (below 2l − 2^−16); a sum that wraps past `i32::MAX` comes out negative, which reads as
+/// above that range too.
 #[inline(always)]
 pub(crate) fn below(x: Fix, limit: Fix) -> bool {
-    limit > Fix::ZERO && magnitude(x) < limit.to_bits() as u32
+    let l = limit.to_bits();
+    (x.to_bits().wrapping_add(l - 1) as u32) < (2 * l - 1) as u32
 }
 
 /// The speed form bleeds its output by this factor per update while |r| < 0.001.
@@ -568,6 +572,35 @@ mod tests {
             for &b in &bits {
                 let got = mul(Fix::from_bits(a), Fix::from_bits(b)).to_bits();
                 assert_eq!(got, reference(a, b), "{a:#x} × {b:#x}");
+            }
+        }
+    }
+
+    #[test]
+    fn below_is_a_magnitude_compare() {
+        let sweep = (i32::MIN..=i32::MAX).step_by(4_093);
+        for limit in [NO_DEMAND, Fix::DELTA, Fix::ONE, fix(16_383.5)] {
+            let l = limit.to_bits();
+            let edges = [
+                i32::MIN,
+                -l - 1,
+                -l,
+                -l + 1,
+                -1,
+                0,
+                1,
+                l - 1,
+                l,
+                l + 1,
+                i32::MAX,
+            ];
+            for bits in edges.into_iter().chain(sweep.clone()) {
+                let x = Fix::from_bits(bits);
+                assert_eq!(
+                    below(x, limit),
+                    magnitude(x) < l as u32,
+                    "{bits:#x} {limit}"
+                );
             }
         }
     }
