@@ -61,7 +61,7 @@ impl Saturating for Fix {
 /// comparing a magnitude on the per-update path without a call.
 #[inline(always)]
 pub(crate) fn magnitude(x: Fix) -> u32 {
-    x.to_bits().unsigned_abs()
+    sum::magnitude(x.to_bits())
 }
 
 /// Whether |x| < `limit` for a constant `limit` of at least 2^−16 and below 2^14: one
@@ -109,7 +109,7 @@ impl Duty {
     pub fn from_control(u: Fix) -> Duty {
         // |m| = ⌊|u|⌋, the high half of |u|'s bits; m < 0 when u < 0 and |m| ≠ 0.
         let bits = u.to_bits();
-        let whole = (bits.unsigned_abs() >> 16) as u16;
+        let whole = (magnitude(u) >> 16) as u16;
         let magnitude = u8::try_from(whole).unwrap_or(u8::MAX);
         let direction = if bits < 0 && whole != 0 {
             Direction::Reverse
@@ -133,7 +133,8 @@ pub struct Gains {
     pub i: Fix,
     /// D gain: duty per unit of change per update.
     pub d: Fix,
-    /// Integral clamp (applied as ±cap).
+    /// Integral clamp (applied as ±cap). Never negative (its register's range is
+    /// 0..1000): the update negates it without saturation.
     pub cap: Fix,
     /// Integral multiplier per update.
     pub decay: Fix,
@@ -295,14 +296,24 @@ impl Pid {
     /// I and D for the error `error` (after the dead zone), updating the state.
     fn terms(&mut self, gains: &Gains, error: Fix, actual: Fix) -> (Fix, Fix) {
         let integral = self.integral.add_sat(error);
-        let integral = mul(integral, gains.decay)
-            .max(Fix::ZERO.sub_sat(gains.cap))
-            .min(gains.cap);
+        let integral = clamp(mul(integral, gains.decay), gains.cap);
         self.integral = integral;
         let deriv = self.prev_actual.sub_sat(actual);
         self.prev_actual = actual;
         (integral, deriv)
     }
+}
+
+/// `x` clamped to ±`cap` (cap ≥ 0).
+fn clamp(x: Fix, cap: Fix) -> Fix {
+    let (x, cap) = (x.to_bits(), cap.to_bits());
+    Fix::from_bits(if x > cap {
+        cap
+    } else if x < cap.wrapping_neg() {
+        cap.wrapping_neg()
+    } else {
+        x
+    })
 }
 
 /// e = r − a, 0 when 0 < |e| < dead zone.
@@ -465,7 +476,7 @@ mod tests {
             (0.0, 0.0, 300.0, 0.95, 0.5),
             (3.0, 0.0, 0.0, 0.0, 0.0),
             (1.0, -1.5, 50.0, 0.9, 1.0),
-            (1.0, 0.0, -5.0, 0.5, 1.0),
+            (1.0, 0.0, 5.0, 0.5, 1.0),
         ] {
             let g = Gains {
                 p: fix(p),
@@ -601,6 +612,31 @@ mod tests {
                     magnitude(x) < l as u32,
                     "{bits:#x} {limit}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn clamp_equals_max_then_min_for_every_cap() {
+        // Every cap its register gives (0..1000.02) and then some, against the form it
+        // replaced.
+        let caps = [
+            0.0,
+            Fix::DELTA.to_num(),
+            0.5,
+            49.989,
+            299.997,
+            1000.0,
+            1000.02,
+            32767.0,
+        ];
+        let sweep = (i32::MIN..=i32::MAX).step_by(65_537);
+        for cap in caps.map(fix) {
+            let c = cap.to_bits();
+            let edges = [i32::MIN, -c - 1, -c, -c + 1, 0, c - 1, c, c + 1, i32::MAX];
+            for bits in edges.into_iter().chain(sweep.clone()) {
+                let x = Fix::from_bits(bits);
+                assert_eq!(clamp(x, cap), x.max(-cap).min(cap), "{x} {cap}");
             }
         }
     }
