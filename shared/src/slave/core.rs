@@ -544,7 +544,8 @@ impl<B: Board> Core<B> {
     fn update_motor(&mut self, motor: MotorId, actual: Fix, now_us: u32, now_ms: u32) {
         let cx = self.context(now_us, now_ms);
         let kind = Kind::of(self.variant(), motor);
-        let fault = self.motors[motor.index()].update_as(kind, actual, &cx);
+        // Not held: the drive never holds, and a position update asked first.
+        let fault = self.motors[motor.index()].update_unheld(kind, actual, &cx);
         self.raise(fault, motor);
     }
 

@@ -100,14 +100,14 @@ impl FaultDetector {
             self.since_ms = None;
             return None;
         }
-        let Some(since) = self.since_ms else {
-            self.restart(now_ms, anchor);
-            return None;
+        // Not suspect yet, or moved: suspect from now (one copy of the restart).
+        let since = match self.since_ms {
+            Some(since) if !moved(value.to_bits().wrapping_sub(self.anchor.to_bits())) => since,
+            _ => {
+                self.restart(now_ms, anchor);
+                return None;
+            }
         };
-        if moved(value.to_bits().wrapping_sub(self.anchor.to_bits())) {
-            self.restart(now_ms, anchor);
-            return None;
-        }
         if now_ms.wrapping_sub(since) <= u32::from(limits.fault_time_ms) {
             return None;
         }

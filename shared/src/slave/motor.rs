@@ -362,6 +362,20 @@ impl Motor {
             self.hold(kind, actual, cx);
             return None;
         }
+        self.update_unheld(kind, actual, cx)
+    }
+
+    /// [`Motor::update_as`] for an update that does not hold ([`Motor::holds`] false):
+    /// for a caller that has just asked, or for the drive, which never holds (only a
+    /// position update rests). The board's updates come through here, so the image
+    /// carries one hold test, the caller's.
+    #[inline(always)]
+    pub fn update_unheld(
+        &mut self,
+        kind: Kind,
+        actual: Fix,
+        cx: &UpdateContext,
+    ) -> Option<LocalFault> {
         let position = kind == Kind::Position;
         // The demand, overwritten in exception: stored either way, so that the paths
         // join before the controller's one call for both forms.
@@ -670,6 +684,39 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_drive_never_holds() {
+        // `update_unheld` skips the hold test for the drive: its steps at rest (zero
+        // gains, no demand, the same speed) must never mark it at rest.
+        let mut m = Motor::new(Kind::Drive);
+        m.start(0);
+        let mut rests = 0;
+        for k in 0..20u32 {
+            let cx = UpdateContext {
+                now_us: 150_000 * (k + 1),
+                now_ms: 150 * (k + 1),
+                in_exception: k % 3 == 0,
+                fault_time_ms: 500,
+            };
+            m.update(Fix::ZERO, &cx);
+            let step = m.pid;
+            rests += usize::from(step.integral() == Fix::ZERO && step.control() == Fix::ZERO);
+            assert!(!m.at_rest && !m.holds(Fix::ZERO, &cx), "update {k}");
+        }
+        assert_eq!(rests, 20);
+        // A position motor in the same state does hold.
+        let mut m = Motor::new(Kind::Position);
+        m.start(0);
+        let cx = UpdateContext {
+            now_us: 2_000,
+            now_ms: 2,
+            in_exception: false,
+            fault_time_ms: 500,
+        };
+        m.update(Fix::ZERO, &cx);
+        assert!(m.holds(Fix::ZERO, &cx));
     }
 
     #[test]
