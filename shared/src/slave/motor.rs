@@ -379,10 +379,12 @@ impl Motor {
         let position = kind == Kind::Position;
         // The demand, overwritten in exception: stored either way, so that the paths
         // join before the controller's one call for both forms.
-        let required = match (cx.in_exception, position) {
-            (false, _) => self.params.required,
-            (true, true) => actual,
-            (true, false) => Fix::ZERO,
+        // In exception the actual angle or 0: the angle masked by the kind, in bits (a
+        // branch on the kind would give each case its own copy of the call below).
+        let required = if cx.in_exception {
+            Fix::from_bits(actual.to_bits() & i32::from(position).wrapping_neg())
+        } else {
+            self.params.required
         };
         self.params.required = required;
         let form = if position {
