@@ -256,9 +256,12 @@ impl Pid {
     /// One update of either form ([`Pid::position`], [`Pid::speed`]).
     ///
     /// Both forms are one routine: they differ only in how u is made from the terms' sum,
-    /// so a board with both (drive/steer) carries one copy of the rest, and its caller
-    /// one call for both motors. A board with one form (lift/lift) gets it specialised.
-    #[inline(never)]
+    /// so a board with both (drive/steer) carries one copy of the rest. It is left to the
+    /// optimiser to inline: each board's one motor update (one copy for both motors) takes
+    /// it in line, without the call, the returned step in memory and a second save of
+    /// the registers (drive 44 B, lift 112 B smaller than out of line), and a board with
+    /// one form (lift/lift) gets it specialised.
+    #[inline]
     pub fn update(&mut self, form: Form, gains: &Gains, required: Fix, actual: Fix) -> Step {
         let error = dead_zoned(gains, required, actual);
         let (integral, deriv) = self.terms(gains, error, actual);
