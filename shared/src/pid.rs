@@ -309,14 +309,7 @@ impl Pid {
 
 /// `x` clamped to ±`cap` (cap ≥ 0).
 fn clamp(x: Fix, cap: Fix) -> Fix {
-    let (x, cap) = (x.to_bits(), cap.to_bits());
-    Fix::from_bits(if x > cap {
-        cap
-    } else if x < cap.wrapping_neg() {
-        cap.wrapping_neg()
-    } else {
-        x
-    })
+    Fix::from_bits(sum::clamp(x.to_bits(), cap.to_bits()))
 }
 
 /// e = r − a, 0 when 0 < |e| < dead zone.

@@ -1,10 +1,11 @@
-//! The saturating `I16F16` sum and difference of [`super::Saturating`], and the
-//! magnitude of [`super::magnitude`], in bits.
+//! The saturating `I16F16` sum and difference of [`super::Saturating`], the magnitude
+//! of [`super::magnitude`] and the PID's integral clamp, in bits.
 //!
 //! On the AVR each sum is one short routine in assembly: the 32-bit sum, and on a signed
 //! overflow the limit the carry points to (24 B each, where the `fixed` crate's
 //! saturating operations compile to 66 and 70 B). The magnitude is nine instructions in
-//! line (the standard library's takes 16 and a spare register). Elsewhere they are the
+//! line (the standard library's takes 16 and a spare register), the clamp of the
+//! integral to ±cap 23 (the two compares and selects in Rust took 37 to 46). Elsewhere they are the
 //! standard library's operations, the reference the assembly is checked against.
 //!
 //! The crate denies `unsafe`; this module allows it for its assembly, as
@@ -118,6 +119,62 @@ pub fn magnitude(x: i32) -> u32 {
         );
     }
     u32::from(high) << 16 | u32::from(low)
+}
+
+/// `x` clamped to ±`cap`, for cap ≥ 0.
+///
+/// On the AVR, in line: x > cap (signed) takes cap; otherwise x + cap below 0 (its sign
+/// as N ⊕ V, right even when the sum overflows) takes 0 − cap.
+#[cfg(target_arch = "avr")]
+#[inline(always)]
+pub fn clamp(x: i32, cap: i32) -> i32 {
+    let (mut low, mut high) = (x as u16, (x >> 16) as u16);
+    let (cap_low, cap_high) = (cap as u16, (cap >> 16) as u16);
+    // SAFETY: register arithmetic only (no memory, no stack) on the operands' and the
+    // two scratch pairs' registers; r1 (the zero register) is only read; SREG is not
+    // preserved.
+    unsafe {
+        core::arch::asm!(
+            "cp {cl:l}, {low:l}",
+            "cpc {cl:h}, {low:h}",
+            "cpc {ch:l}, {high:l}",
+            "cpc {ch:h}, {high:h}",
+            "brge 1f",
+            "movw {low:l}, {cl:l}",
+            "movw {high:l}, {ch:l}",
+            "rjmp 2f",
+            "1: movw {tl:l}, {low:l}",
+            "movw {th:l}, {high:l}",
+            "add {tl:l}, {cl:l}",
+            "adc {tl:h}, {cl:h}",
+            "adc {th:l}, {ch:l}",
+            "adc {th:h}, {ch:h}",
+            "brge 2f",
+            "clr {low:l}",
+            "clr {low:h}",
+            "movw {high:l}, {low:l}",
+            "sub {low:l}, {cl:l}",
+            "sbc {low:h}, {cl:h}",
+            "sbc {high:l}, {ch:l}",
+            "sbc {high:h}, {ch:h}",
+            "2:",
+            low = inout(reg_pair) low,
+            high = inout(reg_pair) high,
+            cl = in(reg_pair) cap_low,
+            ch = in(reg_pair) cap_high,
+            tl = out(reg_pair) _,
+            th = out(reg_pair) _,
+            options(pure, nomem, nostack),
+        );
+    }
+    (u32::from(high) << 16 | u32::from(low)) as i32
+}
+
+/// `x` clamped to ±`cap`, for cap ≥ 0.
+#[cfg(not(target_arch = "avr"))]
+#[inline(always)]
+pub fn clamp(x: i32, cap: i32) -> i32 {
+    x.clamp(-cap, cap)
 }
 
 /// |x|, exact (|i32::MIN| is 2^31).
