@@ -316,11 +316,10 @@ fn clamp(x: Fix, cap: Fix) -> Fix {
 fn dead_zoned(gains: &Gains, required: Fix, actual: Fix) -> Fix {
     let error = required.sub_sat(actual);
     // |e| < z: an error of 0 stays 0 either way, and z ≥ 0 (see [`Gains::dead_zone`]).
-    if magnitude(error) < gains.dead_zone.to_bits() as u32 {
-        Fix::ZERO
-    } else {
-        error
-    }
+    Fix::from_bits(sum::dead_zone(
+        error.to_bits(),
+        gains.dead_zone.to_bits() as u32,
+    ))
 }
 
 fn sum_terms(gains: &Gains, error: Fix, integral: Fix, deriv: Fix) -> Fix {
