@@ -65,9 +65,9 @@ pub(crate) fn magnitude(x: Fix) -> u32 {
 }
 
 /// Whether |x| < `limit` for a constant `limit` of at least 2^−16 and below 2^14: one
-/// sum and one unsigned compare, no |x|. −l < x < l exactly when x + l − 2^−16 lies in
-/// 0..2l − 2^−16 (below 2l − 2^−16); a sum that wraps past `i32::MAX` comes out negative, which reads as
-/// above that range too.
+/// sum and one unsigned compare, no |x|. −l < x < l exactly when x + l − 2^−16 is below
+/// 2l − 2^−16 unsigned; a sum that wraps past `i32::MAX` comes out negative, which reads
+/// as above that bound too.
 #[inline(always)]
 pub(crate) fn below(x: Fix, limit: Fix) -> bool {
     let l = limit.to_bits();
