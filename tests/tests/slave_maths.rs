@@ -1,8 +1,10 @@
-//! Emulator test of the slave's arithmetic in AVR assembly (`shared::slave::divide` and
-//! `shared::slave::product`) through `fixture_slave_maths`: the division at its edges and
-//! on pseudo-random operands, and the 16×16→32 product on every corner and on
-//! pseudo-random operands, each checked against the host's own arithmetic. The host
-//! builds of both functions are plain Rust, so only this test shows the assembly right.
+//! Emulator test of the slave's arithmetic in AVR assembly (`shared::slave::divide`,
+//! `shared::slave::product` and `shared::pid::sum`) through `fixture_slave_maths`: the
+//! division at its edges and on pseudo-random operands, the 16×16→32 product, and the
+//! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
+//! on every pair of corner values and on pseudo-random operands of every width, each
+//! checked against the host's own arithmetic written out here. The host builds of these
+//! functions are plain Rust, so only this test shows the assembly right.
 
 use harness::Avr;
 
@@ -97,4 +99,79 @@ fn product_matches_the_host_on_corners_and_random_operands() {
             "{a} * {b}"
         );
     }
+}
+
+/// Signed corners: zero, ±1, the `I16F16` unit and its neighbours, the 16-bit boundary and
+/// the `i32` limits.
+const SIGNED: [i32; 15] = [
+    0,
+    1,
+    -1,
+    0xffff,
+    0x1_0000,
+    -0x1_0000,
+    0x1_0001,
+    0x7fff_0000,
+    0x8000,
+    -0x8000,
+    0x00b5_0000,
+    i32::MAX,
+    i32::MIN,
+    i32::MIN + 1,
+    i32::MAX - 1,
+];
+
+/// Pseudo-random signed operands of every width (1..32 significant bits, both signs).
+fn signed_operands(n: usize) -> impl Iterator<Item = i32> {
+    operands(n).map(|x| ((x >> (x % 32)) as i32).wrapping_mul(if x & 1 == 0 { 1 } else { -1 }))
+}
+
+/// Every pair of corners, then `random` pseudo-random pairs, through `op` on the chip,
+/// against `want` on the host; returns how many pairs were checked.
+fn check_pairs(op: u8, random: usize, want: impl Fn(i32, i32) -> Option<i32>) -> usize {
+    let mut avr = fixture();
+    let mut pairs: Vec<(i32, i32)> = SIGNED
+        .iter()
+        .flat_map(|&a| SIGNED.iter().map(move |&b| (a, b)))
+        .collect();
+    let random: Vec<i32> = signed_operands(2 * random).collect();
+    pairs.extend(random.chunks(2).map(|p| (p[0], p[1])));
+    let mut checked = 0;
+    for (a, b) in pairs {
+        let Some(expected) = want(a, b) else { continue };
+        let got = request(&mut avr, op, a as u32, b as u32);
+        assert_eq!(got, (expected as u32, 0), "op {op}: a {a:#x}, b {b:#x}");
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn fixed_product_truncates_toward_zero_and_saturates_as_the_host_does() {
+    let checked = check_pairs(2, 400, |a, b| {
+        // The exact product in 64 bits, ÷ 2^16 toward zero, then the i32 limits.
+        let exact = i64::from(a) * i64::from(b) / 65_536;
+        Some(exact.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+    });
+    assert_eq!(checked, 15 * 15 + 400);
+}
+
+#[test]
+fn saturating_sum_and_difference_match_the_host() {
+    assert_eq!(check_pairs(3, 300, |a, b| Some(a.saturating_add(b))), 525);
+    assert_eq!(check_pairs(4, 300, |a, b| Some(a.saturating_sub(b))), 525);
+}
+
+#[test]
+fn magnitude_dead_zone_and_clamp_match_the_host() {
+    assert_eq!(
+        check_pairs(5, 100, |a, _| Some(a.unsigned_abs() as i32)),
+        325
+    );
+    let dead_zone = |a: i32, b: i32| Some(if a.unsigned_abs() < b as u32 { 0 } else { a });
+    assert_eq!(check_pairs(6, 300, dead_zone), 525);
+    // The clamp is defined for cap ≥ 0 only: about half of the pairs.
+    let clamp = |a: i32, b: i32| (b >= 0).then(|| a.clamp(-b, b));
+    let checked = check_pairs(7, 300, clamp);
+    assert!(checked > 250, "only {checked} pairs with a cap ≥ 0");
 }

@@ -1,17 +1,21 @@
-//! Fixture: the slave's own arithmetic in AVR assembly (`shared::slave::divide::div_rem`,
-//! the 32-bit shift-and-subtract division, and `shared::slave::product::wide`, the
-//! 16×16→32 product from the hardware multiplier), run on the chip with values the host
-//! picks, so each is checked against the host's own arithmetic (the host builds of both
-//! are plain Rust). Prints `maths ready\r\n`, then answers 9-byte requests
-//! `op, a (u32 LE), b (u32 LE)`:
-//! - op 0: `div_rem(a, b)` (b non-zero): 8 bytes, quotient then remainder, LE;
-//! - op 1: `wide(a as u16, b as u16)`: 8 bytes, the product then 0, LE.
+//! Fixture: the slave's own arithmetic in AVR assembly, run on the chip with values the
+//! host picks, so each is checked against the host's own arithmetic (the host builds of
+//! all of them are plain Rust). Prints `maths ready\r\n`, then answers 9-byte requests
+//! `op, a (u32 LE), b (u32 LE)` with 8 bytes, two u32 LE (the second 0 for one result):
+//! - op 0: `divide::div_rem(a, b)` (b non-zero): quotient, remainder;
+//! - op 1: `product::wide(a as u16, b as u16)`: the 16×16→32 product;
+//! - op 2: `product::fixed(a, b)`: the PID's saturating `I16F16` product;
+//! - op 3 / 4: `pid::sum::add(a, b)` / `sub(a, b)`: saturating sum / difference;
+//! - op 5: `pid::sum::magnitude(a)`;
+//! - op 6: `pid::sum::dead_zone(a, b)`;
+//! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0).
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
-use shared::slave::{divide::div_rem, product::wide};
+use shared::pid::sum;
+use shared::slave::{divide::div_rem, product};
 
 #[avr_device::entry]
 fn main() -> ! {
@@ -22,9 +26,17 @@ fn main() -> ! {
         let a = u32::from_le_bytes([req[1], req[2], req[3], req[4]]);
         let b = u32::from_le_bytes([req[5], req[6], req[7], req[8]]);
         // black_box: the operands must reach the routines at run time, not be folded.
+        let (a, b) = (black_box(a), black_box(b));
+        let (sa, sb) = (a as i32, b as i32);
         let (x, y) = match req[0] {
-            0 if b != 0 => div_rem(black_box(a), black_box(b)),
-            1 => (wide(black_box(a as u16), black_box(b as u16)), 0),
+            0 if b != 0 => div_rem(a, b),
+            1 => (product::wide(a as u16, b as u16), 0),
+            2 => (product::fixed(sa, sb) as u32, 0),
+            3 => (sum::add(sa, sb) as u32, 0),
+            4 => (sum::sub(sa, sb) as u32, 0),
+            5 => (sum::magnitude(sa), 0),
+            6 => (sum::dead_zone(sa, b) as u32, 0),
+            7 if sb >= 0 => (sum::clamp(sa, sb) as u32, 0),
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);
