@@ -405,9 +405,15 @@ fn highest_encoder_rate_without_a_lost_edge() {
          {busy} with TWI traffic ({} pin changes/s)",
         4 * busy
     );
-    // The rover's top drive speed is 4000 ticks/s (REGDS_DRIVE_REQSPEED's range).
-    assert!(busy >= 4_000, "edges lost at the top speed");
-    assert!(quiet >= busy);
+    // The rover's top drive speed is 4000 ticks/s (REGDS_DRIVE_REQSPEED's range); the
+    // project keeps ten times that with and without bus traffic. (Quiet is not compared
+    // with busy: near the limit a loss depends on how the pin changes line up with the
+    // other interrupts, so either can come out one rate step higher.)
+    assert!(quiet >= 40_000, "edges lost below 10x the top speed, quiet");
+    assert!(
+        busy >= 40_000,
+        "edges lost below 10x the top speed with TWI traffic"
+    );
 }
 
 /// The control task's exclusive cycles per tick over `ms` of emulated time with the
