@@ -104,7 +104,7 @@ use super::io::{Inputs, MotorOutput, Outputs, Watchdog};
 use super::leds::{self, LedLevels, Leds};
 use super::motor::{Kind, Motor, UpdateContext};
 use super::registers::RegisterFile;
-use super::scale::Scale;
+use super::scale::{Mapping, Scale};
 use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
 use super::state::{Cause, Event, LocalFault, ResetBits, State};
 use crate::pid::Fix;
@@ -116,7 +116,7 @@ pub const TICK_US: u32 = 1_000;
 pub const POSITION_PERIOD_US: u32 = 2_000;
 
 /// REGDS_CHASSIS: the raw ADC7 reading mapped over 0..1024.
-const CHASSIS: Scale = Scale::of(&DS, id::REGDS_CHASSIS);
+static CHASSIS: Mapping = Scale::of(&DS, id::REGDS_CHASSIS).mapping();
 /// REGDS_CHASSIS is refreshed this often, ms.
 const CHASSIS_PERIOD_MS: u16 = 10;
 
