@@ -23,18 +23,23 @@ use super::board::MotorId;
 use crate::exception::ExceptionType;
 
 /// A fault a slave detects on one of its own motors.
+///
+/// Each variant's discriminant is its type's wire code, so [`LocalFault::kind`] (and
+/// [`Cause::kind`], whose other variants the compiler places in the codes no fault
+/// uses) is mostly the byte itself on the AVR.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum LocalFault {
     /// Current above the threshold at duty > 250.
-    Overcurrent,
+    Overcurrent = ExceptionType::Overcurrent as u8,
     /// Current above the threshold at duty ≤ 250: a short.
-    ShortOc,
+    ShortOc = ExceptionType::ShortOc as u8,
     /// Duty above STALLCHECK, no motion, nominal current: the motor is blocked.
-    Stall,
+    Stall = ExceptionType::Stall as u8,
     /// Duty above STALLCHECK, no motion, low current: the sensor misses the motion.
-    EncoderFault,
+    EncoderFault = ExceptionType::EncoderFault as u8,
     /// Duty above STALLCHECK, no motion, no current: the motor or its wiring is open.
-    DriveFault,
+    DriveFault = ExceptionType::DriveFault as u8,
 }
 
 impl LocalFault {
@@ -74,6 +79,7 @@ pub const NO_MOTOR: u8 = 5;
 
 impl Cause {
     /// The exception type.
+    #[inline(never)]
     pub const fn kind(self) -> ExceptionType {
         match self {
             Cause::Boot => ExceptionType::Boot,
@@ -276,6 +282,29 @@ mod tests {
             (State::Running { .. }, Event::RemoteWrite) => raise(Cause::Remote),
             (State::Running { .. }, Event::BusSilence) => raise(Cause::BusSilent),
         }
+    }
+
+    #[test]
+    fn a_fault_s_discriminant_is_its_wire_code() {
+        let expected = [
+            (LocalFault::Overcurrent, ExceptionType::Overcurrent, 1),
+            (LocalFault::ShortOc, ExceptionType::ShortOc, 8),
+            (LocalFault::Stall, ExceptionType::Stall, 5),
+            (LocalFault::EncoderFault, ExceptionType::EncoderFault, 6),
+            (LocalFault::DriveFault, ExceptionType::DriveFault, 7),
+        ];
+        for (fault, kind, code) in expected {
+            assert_eq!(fault as u8, code);
+            assert_eq!(fault.kind(), kind);
+            for motor in MotorId::BOTH {
+                let cause = Cause::Local { fault, motor };
+                assert_eq!(cause.kind(), kind);
+                assert_eq!(cause.data(), u16::from(motor as u8) << 8 | u16::from(code));
+            }
+        }
+        assert_eq!(Cause::Boot.data(), 0x0502);
+        assert_eq!(Cause::Remote.data(), 0x0503);
+        assert_eq!(Cause::BusSilent.data(), 0x050c);
     }
 
     #[test]
