@@ -56,7 +56,7 @@ impl Clock {
     }
 
     /// The first call: `now_us` from a clock at 0, as one long gap ([`Clock::skip`]).
-    #[inline(never)]
+    #[inline(always)]
     fn begin(&mut self, now_us: u32) {
         // Every other field is still as `new` made it: only `advance` changes them.
         self.started = true;

@@ -197,8 +197,9 @@ impl SpeedMeter {
     /// since the reference, which bounds the speed. Before any update saw an edge the
     /// speed is 0 and the interval's start stands in for the reference: the first edges
     /// then count from it, and the bound of a 0 speed is 0 (tested against the form
-    /// with each case written out).
-    #[inline(never)]
+    /// with each case written out). In line in the tick, its one caller (54 B less
+    /// than a call in the drive/steer image).
+    #[inline(always)]
     pub fn measure(&mut self, now_us: u32, mode: DriveMode) -> Fix {
         let n = self.rising;
         let reference = self.reference.unwrap_or(self.since_us);
