@@ -164,7 +164,9 @@ impl Scale {
     }
 }
 
-#[inline(never)]
+/// In line: the firmware unmaps in one place, [`super::motor::Params::set`] (58 B and
+/// 24 B smaller in the two images than a call).
+#[inline(always)]
 fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
     // `max(1)` proves the divisor is not zero (F is 254 or 65534).
     let full = u32::from(full.max(1));
