@@ -453,9 +453,11 @@ impl<B: Board> Core<B> {
         }
     }
 
-    /// [`Core::position_update`], not inlined.
+    /// [`Core::position_update`], not inlined, with the pot reading's conversion in line
+    /// ([`Motor::angle_in_line`]).
     #[inline(never)]
     fn position_update_outlined(&mut self, motor: MotorId, reading: u16, now_us: u32, now_ms: u32) {
+        self.motors[motor.index()].angle_in_line(reading);
         self.position_update(motor, reading, now_us, now_ms);
     }
 
