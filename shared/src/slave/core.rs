@@ -424,9 +424,17 @@ impl<B: Board> Core<B> {
     #[inline(always)]
     fn publish_motor(&mut self, motor: MotorId, regs: &mut RegisterFile<B>) {
         let layout = Layout::of(self.variant(), motor);
+        let variant = self.variant();
         let m = &mut self.motors[motor.index()];
         if m.take_fresh() {
-            regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
+            let first = layout.monitor_id(Monitor::Actual);
+            match variant {
+                // One copy for both motors on the lift/lift board (14 B smaller); in
+                // line on the drive/steer board, whose encoder bench (quiet ≥ busy)
+                // rejects the image with the call.
+                Variant::LiftLift => regs.set_run_outlined(first, &m.monitors().raw),
+                Variant::DriveSteer => regs.set_run(first, &m.monitors().raw),
+            }
         }
         regs.set(layout.monitor_id(Monitor::Current), u16::from(m.current()));
     }
