@@ -339,7 +339,7 @@ impl Motor {
     /// [`Motor::angle`] with the conversion in line, for a caller that is itself the one
     /// out-of-line copy of a position update (the lift/lift board's): a [`Motor::angle`]
     /// of the same reading right after it finds the conversion kept, so that caller
-    /// needs no call to [`Motor::convert`] (98 B less on that board; in the drive/steer
+    /// needs no call to `Motor::convert` (98 B less on that board; in the drive/steer
     /// board's tick the call is smaller).
     #[inline(always)]
     pub fn angle_in_line(&mut self, reading: u16) {
