@@ -86,12 +86,19 @@ impl Stage {
     }
 
     /// The outputs at power-up, before the first tick: [`MotorOutput::BOOT`] on both
-    /// motors, LEDs off.
+    /// motors, LEDs off. What [`Stage::apply`] does with them, less what [`Stage::new`]
+    /// has done (every pin low, both duties 0): the two POS pins go high, M1 POS (D2)
+    /// last, and the watchdog is fed. Written out, so that `apply` has one caller (the
+    /// tick, which takes it in line) and no `Outputs` constant is kept in RAM.
     pub fn boot(&mut self) {
-        self.apply(&Outputs {
-            motors: [MotorOutput::BOOT; 2],
-            leds: LedLevels::OFF,
-            watchdog: Dog::Feed,
-        });
+        const _: () = assert!(
+            MotorOutput::BOOT.duty() == 0
+                && matches!(MotorOutput::BOOT.pins(), (true, false))
+                && !LedLevels::OFF.led1
+                && !LedLevels::OFF.led2
+        );
+        self.m2.0.set_high();
+        self.m1.0.set_high();
+        self.watchdog.feed();
     }
 }

@@ -225,16 +225,21 @@ const LL_TWO: Layout = Layout {
     calib: Some((id::REGLL_TWO_CALIBMIN, id::REGLL_TWO_CALIBMAX)),
 };
 
-/// Offsets from [`Layout::base`] of the shared head of a motor block.
-const HEAD: [Param; 7] = [
-    Param::Required,
-    Param::P,
-    Param::I,
-    Param::D,
-    Param::Cap,
-    Param::Decay,
-    Param::Threshold,
-];
+/// The parameter at an offset from [`Layout::base`] in the shared head of a motor
+/// block. A `match`, not a table: the offsets are the variants' own discriminants, so
+/// the AVR needs no table in RAM, only the bound.
+fn head(offset: u8) -> Option<Param> {
+    Some(match offset {
+        0 => Param::Required,
+        1 => Param::P,
+        2 => Param::I,
+        3 => Param::D,
+        4 => Param::Cap,
+        5 => Param::Decay,
+        6 => Param::Threshold,
+        _ => return None,
+    })
+}
 
 impl Layout {
     /// The layout of a motor of a variant.
@@ -250,8 +255,8 @@ impl Layout {
     /// The parameter a register id holds, if it is one of this motor's parameters.
     pub fn param(&self, reg: u8) -> Option<Param> {
         if let Some(offset) = reg.checked_sub(self.base) {
-            if let Some(param) = HEAD.get(usize::from(offset)) {
-                return Some(*param);
+            if let Some(param) = head(offset) {
+                return Some(param);
             }
         }
         if reg == self.stall_check {
@@ -310,6 +315,36 @@ mod tests {
     use super::*;
     use crate::regs::id;
     use crate::slave::{AdcSample, Core, EdgeSample, Inputs, Outputs, RegisterFile, TICK_US};
+
+    #[test]
+    fn the_head_of_a_block_is_its_first_seven_parameters_in_order() {
+        let order = [
+            Param::Required,
+            Param::P,
+            Param::I,
+            Param::D,
+            Param::Cap,
+            Param::Decay,
+            Param::Threshold,
+        ];
+        for offset in 0..=u8::MAX {
+            assert_eq!(
+                head(offset),
+                order.get(usize::from(offset)).copied(),
+                "{offset}"
+            );
+        }
+        for variant in [Variant::DriveSteer, Variant::LiftLift] {
+            for motor in MotorId::BOTH {
+                let layout = Layout::of(variant, motor);
+                for (offset, param) in order.into_iter().enumerate() {
+                    let reg = layout.base + offset as u8;
+                    assert_eq!(layout.param(reg), Some(param));
+                    assert_eq!(layout.param_id(param), Some(reg));
+                }
+            }
+        }
+    }
 
     /// Runs a board for `ticks` ms with writes, pot movement and encoder edges; returns
     /// every tick's outputs and register file contents.

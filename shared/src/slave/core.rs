@@ -104,7 +104,7 @@ use super::io::{Inputs, MotorOutput, Outputs, Watchdog};
 use super::leds::{self, LedLevels, Leds};
 use super::motor::{Kind, Motor, UpdateContext};
 use super::registers::RegisterFile;
-use super::scale::Scale;
+use super::scale::{Mapping, Scale};
 use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
 use super::state::{Cause, Event, LocalFault, ResetBits, State};
 use crate::pid::Fix;
@@ -116,7 +116,7 @@ pub const TICK_US: u32 = 1_000;
 pub const POSITION_PERIOD_US: u32 = 2_000;
 
 /// REGDS_CHASSIS: the raw ADC7 reading mapped over 0..1024.
-const CHASSIS: Scale = Scale::of(&DS, id::REGDS_CHASSIS);
+static CHASSIS: Mapping = Scale::of(&DS, id::REGDS_CHASSIS).mapping();
 /// REGDS_CHASSIS is refreshed this often, ms.
 const CHASSIS_PERIOD_MS: u16 = 10;
 
@@ -339,7 +339,10 @@ impl<B: Board> Core<B> {
 
     /// Phase 2: one control tick at `now_us` (a wrapping µs clock).
     pub fn step(&mut self, now_us: u32, inputs: &Inputs) -> Outputs {
-        let first = self.clock.advance(now_us);
+        let first = match self.variant() {
+            Variant::LiftLift => self.clock.advance_in_line(now_us),
+            Variant::DriveSteer => self.clock.advance(now_us),
+        };
         let now_ms = self.clock.ms();
         let Some(address) = self.address else {
             return Outputs::stopped(leds::bad_address(now_ms), Watchdog::Feed);
@@ -421,9 +424,17 @@ impl<B: Board> Core<B> {
     #[inline(always)]
     fn publish_motor(&mut self, motor: MotorId, regs: &mut RegisterFile<B>) {
         let layout = Layout::of(self.variant(), motor);
+        let variant = self.variant();
         let m = &mut self.motors[motor.index()];
         if m.take_fresh() {
-            regs.set_run(layout.monitor_id(Monitor::Actual), &m.monitors().raw);
+            let first = layout.monitor_id(Monitor::Actual);
+            match variant {
+                // One copy for both motors on the lift/lift board (14 B smaller); in
+                // line on the drive/steer board, whose encoder bench (quiet ≥ busy)
+                // rejects the image with the call.
+                Variant::LiftLift => regs.set_run_outlined(first, &m.monitors().raw),
+                Variant::DriveSteer => regs.set_run(first, &m.monitors().raw),
+            }
         }
         regs.set(layout.monitor_id(Monitor::Current), u16::from(m.current()));
     }
@@ -453,9 +464,11 @@ impl<B: Board> Core<B> {
         }
     }
 
-    /// [`Core::position_update`], not inlined.
+    /// [`Core::position_update`], not inlined, with the pot reading's conversion in line
+    /// ([`Motor::angle_in_line`]).
     #[inline(never)]
     fn position_update_outlined(&mut self, motor: MotorId, reading: u16, now_us: u32, now_ms: u32) {
+        self.motors[motor.index()].angle_in_line(reading);
         self.position_update(motor, reading, now_us, now_ms);
     }
 
@@ -497,12 +510,24 @@ impl<B: Board> Core<B> {
     #[inline(always)]
     fn take_pending(&mut self, now_ms: u32) {
         if self.pending != Pending::default() {
-            self.take_requests(now_ms);
+            match self.variant() {
+                // In line on the lift/lift board (34 B smaller), a call on the
+                // drive/steer board, whose tick is larger (4 B smaller): measured.
+                Variant::LiftLift => self.take_requests(now_ms),
+                Variant::DriveSteer => self.take_requests_outlined(now_ms),
+            }
         }
     }
 
-    /// What the bus asked for since the previous tick (most ticks: nothing, and no call).
+    /// [`Core::take_requests`], not inlined.
     #[inline(never)]
+    fn take_requests_outlined(&mut self, now_ms: u32) {
+        self.take_requests(now_ms);
+    }
+
+    /// What the bus asked for since the previous tick (most ticks: nothing, and a
+    /// branch past this).
+    #[inline(always)]
     fn take_requests(&mut self, now_ms: u32) {
         if core::mem::take(&mut self.pending.ping) {
             self.leds.ping(now_ms);

@@ -127,6 +127,12 @@ impl<B: Board> RegisterFile<B> {
         }
     }
 
+    /// [`RegisterFile::set_run`], not inlined.
+    #[inline(never)]
+    pub fn set_run_outlined(&mut self, first: u8, raws: &[u16]) {
+        self.set_run(first, raws);
+    }
+
     /// Takes the lowest-numbered register marked changed, clearing its mark.
     pub fn take_changed(&mut self) -> Option<u8> {
         let mut changes = Changes(self.changed);

@@ -23,18 +23,23 @@ use super::board::MotorId;
 use crate::exception::ExceptionType;
 
 /// A fault a slave detects on one of its own motors.
+///
+/// Each variant's discriminant is its type's wire code, so [`LocalFault::kind`] (and
+/// [`Cause::kind`], whose other variants the compiler places in the codes no fault
+/// uses) is mostly the byte itself on the AVR.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum LocalFault {
     /// Current above the threshold at duty > 250.
-    Overcurrent,
+    Overcurrent = ExceptionType::Overcurrent as u8,
     /// Current above the threshold at duty ≤ 250: a short.
-    ShortOc,
+    ShortOc = ExceptionType::ShortOc as u8,
     /// Duty above STALLCHECK, no motion, nominal current: the motor is blocked.
-    Stall,
+    Stall = ExceptionType::Stall as u8,
     /// Duty above STALLCHECK, no motion, low current: the sensor misses the motion.
-    EncoderFault,
+    EncoderFault = ExceptionType::EncoderFault as u8,
     /// Duty above STALLCHECK, no motion, no current: the motor or its wiring is open.
-    DriveFault,
+    DriveFault = ExceptionType::DriveFault as u8,
 }
 
 impl LocalFault {
@@ -74,6 +79,7 @@ pub const NO_MOTOR: u8 = 5;
 
 impl Cause {
     /// The exception type.
+    #[inline(never)]
     pub const fn kind(self) -> ExceptionType {
         match self {
             Cause::Boot => ExceptionType::Boot,
@@ -190,30 +196,40 @@ impl State {
 
     /// Applies an event. `disabled` is REG_DISABLEDEXCEPTIONS: type t is never raised
     /// while bit (1 << t) is set.
+    ///
+    /// Decided by the state first (restarting takes nothing; running or not) and the
+    /// event second, with one store of the new state per outcome (tested against the
+    /// table of every state and event pair).
     pub fn handle(&mut self, event: Event, disabled: u16) -> Transition {
-        let current = *self;
-        let (next, transition) = match (current, event) {
-            (State::Restarting { .. }, _) => (current, Transition::Unchanged),
-            (State::Exception(last) | State::Running { last }, Event::HardReset) => {
-                (State::Restarting { last }, Transition::Restart)
-            }
-            (State::Exception(cause), Event::Leave) => {
-                (State::Running { last: cause }, Transition::Left)
-            }
-            (State::Running { .. }, Event::Leave) => (current, Transition::Unchanged),
-            (State::Exception(_), Event::Fault { .. } | Event::RemoteWrite | Event::BusSilence) => {
-                (current, Transition::Unchanged)
-            }
-            (State::Running { .. }, Event::Fault { fault, motor }) => {
-                raise(current, Cause::Local { fault, motor }, disabled)
-            }
-            (State::Running { .. }, Event::RemoteWrite) => raise(current, Cause::Remote, disabled),
-            (State::Running { .. }, Event::BusSilence) => {
-                raise(current, Cause::BusSilent, disabled)
-            }
+        let (last, running) = match *self {
+            State::Restarting { .. } => return Transition::Unchanged,
+            State::Exception(cause) => (cause, false),
+            State::Running { last } => (last, true),
         };
-        *self = next;
-        transition
+        let cause = match event {
+            Event::HardReset => {
+                *self = State::Restarting { last };
+                return Transition::Restart;
+            }
+            Event::Leave if running => return Transition::Unchanged,
+            Event::Leave => {
+                *self = State::Running { last };
+                return Transition::Left;
+            }
+            // In an exception only the first is latched.
+            _ if !running => return Transition::Unchanged,
+            Event::Fault { fault, motor } => Cause::Local { fault, motor },
+            Event::RemoteWrite => Cause::Remote,
+            Event::BusSilence => Cause::BusSilent,
+        };
+        let bit = 1u16
+            .checked_shl(u32::from(cause.kind().code()))
+            .unwrap_or(0);
+        if disabled & bit != 0 {
+            return Transition::Masked;
+        }
+        *self = State::Exception(cause);
+        Transition::Entered(cause)
     }
 
     /// Whether REG_STATUS bit 0 is set: in exception, or restarting.
@@ -231,13 +247,108 @@ impl State {
     }
 }
 
-fn raise(current: State, cause: Cause, disabled: u16) -> (State, Transition) {
-    let bit = 1u16
-        .checked_shl(u32::from(cause.kind().code()))
-        .unwrap_or(0);
-    if disabled & bit != 0 {
-        (current, Transition::Masked)
-    } else {
-        (State::Exception(cause), Transition::Entered(cause))
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The transition table written out pair by pair (the form [`State::handle`]
+    /// replaced).
+    fn table(current: State, event: Event, disabled: u16) -> (State, Transition) {
+        let raise = |cause: Cause| {
+            let bit = 1u16
+                .checked_shl(u32::from(cause.kind().code()))
+                .unwrap_or(0);
+            if disabled & bit != 0 {
+                (current, Transition::Masked)
+            } else {
+                (State::Exception(cause), Transition::Entered(cause))
+            }
+        };
+        match (current, event) {
+            (State::Restarting { .. }, _) => (current, Transition::Unchanged),
+            (State::Exception(last) | State::Running { last }, Event::HardReset) => {
+                (State::Restarting { last }, Transition::Restart)
+            }
+            (State::Exception(cause), Event::Leave) => {
+                (State::Running { last: cause }, Transition::Left)
+            }
+            (State::Running { .. }, Event::Leave) => (current, Transition::Unchanged),
+            (State::Exception(_), Event::Fault { .. } | Event::RemoteWrite | Event::BusSilence) => {
+                (current, Transition::Unchanged)
+            }
+            (State::Running { .. }, Event::Fault { fault, motor }) => {
+                raise(Cause::Local { fault, motor })
+            }
+            (State::Running { .. }, Event::RemoteWrite) => raise(Cause::Remote),
+            (State::Running { .. }, Event::BusSilence) => raise(Cause::BusSilent),
+        }
+    }
+
+    #[test]
+    fn a_fault_s_discriminant_is_its_wire_code() {
+        let expected = [
+            (LocalFault::Overcurrent, ExceptionType::Overcurrent, 1),
+            (LocalFault::ShortOc, ExceptionType::ShortOc, 8),
+            (LocalFault::Stall, ExceptionType::Stall, 5),
+            (LocalFault::EncoderFault, ExceptionType::EncoderFault, 6),
+            (LocalFault::DriveFault, ExceptionType::DriveFault, 7),
+        ];
+        for (fault, kind, code) in expected {
+            assert_eq!(fault as u8, code);
+            assert_eq!(fault.kind(), kind);
+            for motor in MotorId::BOTH {
+                let cause = Cause::Local { fault, motor };
+                assert_eq!(cause.kind(), kind);
+                assert_eq!(cause.data(), u16::from(motor as u8) << 8 | u16::from(code));
+            }
+        }
+        assert_eq!(Cause::Boot.data(), 0x0502);
+        assert_eq!(Cause::Remote.data(), 0x0503);
+        assert_eq!(Cause::BusSilent.data(), 0x050c);
+    }
+
+    #[test]
+    fn every_state_and_event_as_the_table() {
+        let faults = [
+            LocalFault::Overcurrent,
+            LocalFault::ShortOc,
+            LocalFault::Stall,
+            LocalFault::EncoderFault,
+            LocalFault::DriveFault,
+        ];
+        let mut causes = vec![Cause::Boot, Cause::Remote, Cause::BusSilent];
+        let mut events = vec![
+            Event::RemoteWrite,
+            Event::BusSilence,
+            Event::Leave,
+            Event::HardReset,
+        ];
+        for fault in faults {
+            for motor in MotorId::BOTH {
+                causes.push(Cause::Local { fault, motor });
+                events.push(Event::Fault { fault, motor });
+            }
+        }
+        let mut states = Vec::new();
+        for &cause in &causes {
+            states.extend([
+                State::Exception(cause),
+                State::Running { last: cause },
+                State::Restarting { last: cause },
+            ]);
+        }
+        let mut seen = std::collections::HashSet::new();
+        for &state in &states {
+            for &event in &events {
+                for disabled in (0..=u16::MAX).step_by(97).chain([0xffff, 1 << 2, 1 << 9]) {
+                    let mut s = state;
+                    let transition = s.handle(event, disabled);
+                    let want = table(state, event, disabled);
+                    assert_eq!((s, transition), want, "{state:?} {event:?} {disabled:#x}");
+                    seen.insert(format!("{:?}", std::mem::discriminant(&transition)));
+                }
+            }
+        }
+        assert_eq!(seen.len(), 5, "every kind of transition: {seen:?}");
     }
 }
