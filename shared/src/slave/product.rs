@@ -7,11 +7,11 @@
 //! instructions and their carries, about 20 cycles; elsewhere it is the plain product.
 //! Every wide product on the slave's per-tick path goes through it.
 //!
-//! [`fixed`], the saturating `I16F16` product of the PID ([`crate::pid::mul`]), is one
-//! routine in assembly on the AVR: the sixteen byte products of the magnitudes summed
-//! column by column, then the sign and the saturation (about 280 B, where the same
-//! arithmetic in Rust over [`wide`] took 500 B). Elsewhere it is Rust in 64 bits, the
-//! reference the emulator checks the routine against.
+//! [`fixed()`], the saturating `I16F16` product of the PID and of the pot's angle
+//! ([`crate::pid::mul`]), is one routine in assembly on the AVR: the sixteen byte
+//! products of the magnitudes summed column by column, then the sign and the saturation
+//! (about 260 B, where the same arithmetic in Rust over [`wide`] took 500 B). Elsewhere
+//! it is Rust in 64 bits, the reference the emulator checks the routine against.
 //!
 //! The crate denies `unsafe`; this module allows it for its assembly, as `progmem` does
 //! for its flash reads.
