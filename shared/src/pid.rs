@@ -27,7 +27,7 @@ pub type Fix = I16F16;
 /// `a·b`, saturating at the `I16F16` limits and truncating toward zero.
 ///
 /// A zero operand (a zero gain, integral or error) returns at once. One out-of-line
-/// routine ([`fixed`]: assembly on the AVR) with its zero tests: tested at each call site
+/// routine ([`fixed()`]: assembly on the AVR) with its zero tests: tested at each call site
 /// instead, they cost 240 B of flash to save some 20–70 cycles a moving tick.
 #[inline(always)]
 pub fn mul(a: Fix, b: Fix) -> Fix {

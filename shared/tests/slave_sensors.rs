@@ -321,3 +321,71 @@ fn current_registers_show_the_filtered_current() {
     assert_eq!(bench.read(REGLL_ONE_CURRENT), 99);
     assert_eq!(bench.read(REGLL_TWO_CURRENT), 43);
 }
+
+/// The angle by the form the product replaced: the span's bits shifted down by 6 (its
+/// 10 high bits of fraction kept), times p by 16×16-bit products, shifted down by 4.
+fn angle_by_shifts(min: Fix, span: Fix, p: u16) -> Fix {
+    let p = i64::from(p.min(1023));
+    let span = i64::from(span.to_bits().clamp(-(1 << 26), 1 << 26) >> 6);
+    let product = span.unsigned_abs() as i64 * p;
+    let product = if span < 0 { -product } else { product };
+    Fix::from_bits((product >> 4) as i32).saturating_add(min)
+}
+
+#[test]
+fn pot_angles_are_the_truncated_exact_product_within_2_pow_minus_10_of_the_shift_form() {
+    let calib = Scale::of(&shared::regs::DS, REGDS_STEER_CALIBMIN);
+    let readings = (0..=1023u16)
+        .step_by(7)
+        .chain([1, 511, 512, 1022, 1023, 1024, u16::MAX]);
+    let readings: Vec<u16> = readings.collect();
+    let (mut cases, mut differ, mut widest) = (0u32, 0u32, 0u32);
+    // Every pair of CALIBMIN and CALIBMAX register values.
+    for raw_min in 0..=255u16 {
+        for raw_max in 0..=255u16 {
+            let (min, max) = (calib.unmap(raw_min), calib.unmap(raw_max));
+            let c = Calibration::new(min, max);
+            let span = max.saturating_sub(min);
+            for &p in &readings {
+                let got = c.angle(p);
+                // p·span/1024 truncated toward zero, exact in 64 bits, then added.
+                let exact = i64::from(span.to_bits()) * i64::from(p.min(1023)) / 1024;
+                let want = Fix::from_bits(exact as i32).saturating_add(min);
+                assert_eq!(got, want, "{raw_min:#x} {raw_max:#x} p {p}");
+                let diff = got
+                    .to_bits()
+                    .abs_diff(angle_by_shifts(min, span, p).to_bits());
+                assert!(diff <= 64, "{raw_min:#x} {raw_max:#x} p {p}: {diff}");
+                differ += u32::from(diff != 0);
+                widest = widest.max(diff);
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 65_536 * 154, "{cases}");
+    // The forms do differ (the bound is not vacuous), by the whole bound at most.
+    assert!(differ > cases / 2, "{differ} of {cases}");
+    assert_eq!(widest, 64);
+}
+
+#[test]
+fn pot_angles_by_hand() {
+    // Span 100.5 (bits 0x64_8000), p 3: 301.5/1024 = 0.294433… → bits 19,296 (exact
+    // 19296.0), min −10: −9.705566… = bits −655,360 + 19,296.
+    let c = Calibration::new(Fix::from_num(-10), Fix::from_num(90.5));
+    assert_eq!(c.angle(3).to_bits(), -655_360 + 19_296);
+    // A negative span truncates toward zero: span −1 (bits −65,536), p 1: −64 bits
+    // exactly; p 1023 of span −0.5: −32,768·1023/1024 = −32,736 exactly; span of
+    // −3 bits at p 1: −3/1024 truncates to 0.
+    let c = Calibration::new(Fix::from_num(1), Fix::ZERO);
+    assert_eq!(c.angle(1).to_bits(), 65_536 - 64);
+    let c = Calibration::new(Fix::from_num(0.5), Fix::ZERO);
+    assert_eq!(c.angle(1023).to_bits(), 32_768 - 32_736);
+    let c = Calibration::new(Fix::from_bits(3), Fix::ZERO);
+    assert_eq!(c.angle(1).to_bits(), 3);
+    // The shift form floored that −3/1024 to −1 bit: the forms differ there.
+    assert_eq!(
+        angle_by_shifts(Fix::from_bits(3), Fix::from_bits(-3), 1).to_bits(),
+        2
+    );
+}

@@ -156,6 +156,58 @@ fn fixed_product_truncates_toward_zero_and_saturates_as_the_host_does() {
     assert_eq!(checked, 15 * 15 + 400);
 }
 
+/// The product's short form (both magnitudes below 2^24, their top bytes 0: 9 byte
+/// products instead of 16) and its edges: the largest operands, the boundary of the
+/// saturation (181.0193…², 2^31 − 1 and 2^31 bits of result), one top byte 0 and the
+/// other not, then pseudo-random operands of 1..24 significant bits.
+#[test]
+fn fixed_product_short_form_matches_the_host() {
+    let mut avr = fixture();
+    let edges = [
+        0x00ff_ffff,
+        0x00ff_fffe,
+        0x0080_0000,
+        0x00b5_04f3,
+        0x00b5_04f4,
+        0x00b5_0000,
+        0x0001_0000,
+        0x0000_0001,
+        0x0100_0000,
+        0x0000_ffff,
+    ];
+    let edges: Vec<i32> = edges.iter().flat_map(|&x: &i32| [x, -x]).collect();
+    let mut pairs: Vec<(i32, i32)> = edges
+        .iter()
+        .flat_map(|&a| edges.iter().map(move |&b| (a, b)))
+        .collect();
+    let random: Vec<i32> = operands(600)
+        .map(|x| {
+            let bits = (x >> (8 + x % 24)) as i32 & 0x00ff_ffff;
+            if x & 1 == 0 {
+                bits
+            } else {
+                -bits
+            }
+        })
+        .collect();
+    pairs.extend(random.chunks(2).map(|p| (p[0], p[1])));
+    let (mut short, mut saturated) = (0, 0);
+    for &(a, b) in &pairs {
+        let exact = i64::from(a) * i64::from(b) / 65_536;
+        let want = exact.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32;
+        let got = request(&mut avr, 2, a as u32, b as u32);
+        assert_eq!(got, (want as u32, 0), "a {a:#x}, b {b:#x}");
+        if a.unsigned_abs() < 1 << 24 && b.unsigned_abs() < 1 << 24 && a != 0 && b != 0 {
+            short += 1;
+            saturated += usize::from(i64::from(want) != exact);
+        }
+    }
+    assert_eq!(pairs.len(), 400 + 300);
+    // Both forms are reached, and the short form's saturation too.
+    assert!(short > 500 && short < pairs.len(), "{short}");
+    assert!(saturated >= 20, "{saturated}");
+}
+
 #[test]
 fn saturating_sum_and_difference_match_the_host() {
     assert_eq!(check_pairs(3, 300, |a, b| Some(a.saturating_add(b))), 525);

@@ -1,5 +1,5 @@
-//! The saturating `I16F16` sum and difference of [`super::Saturating`], the magnitude
-//! of [`super::magnitude`], and the PID's dead zone and integral clamp, in bits.
+//! The saturating `I16F16` sum and difference of `Saturating`, the magnitude
+//! of `magnitude`, and the PID's dead zone and integral clamp, in bits.
 //!
 //! On the AVR each sum is one short routine in assembly: the 32-bit sum, and on a signed
 //! overflow the limit the carry points to (24 B each, where the `fixed` crate's

@@ -7,11 +7,11 @@
 //! instructions and their carries, about 20 cycles; elsewhere it is the plain product.
 //! Every wide product on the slave's per-tick path goes through it.
 //!
-//! [`fixed`], the saturating `I16F16` product of the PID ([`crate::pid::mul`]), is one
-//! routine in assembly on the AVR: the sixteen byte products of the magnitudes summed
-//! column by column, then the sign and the saturation (about 280 B, where the same
-//! arithmetic in Rust over [`wide`] took 500 B). Elsewhere it is Rust in 64 bits, the
-//! reference the emulator checks the routine against.
+//! [`fixed()`], the saturating `I16F16` product of the PID and of the pot's angle
+//! ([`crate::pid::mul`]), is one routine in assembly on the AVR: the sixteen byte
+//! products of the magnitudes summed column by column, then the sign and the saturation
+//! (about 260 B, where the same arithmetic in Rust over [`wide`] took 500 B). Elsewhere
+//! it is Rust in 64 bits, the reference the emulator checks the routine against.
 //!
 //! The crate denies `unsafe`; this module allows it for its assembly, as `progmem` does
 //! for its flash reads.
@@ -67,9 +67,12 @@ pub fn wide(a: u16, b: u16) -> u32 {
 /// has them (`a` in r25..r22, `b` in r21..r18, the result in r25..r22), so a call moves
 /// little. Column k of the magnitudes' product (the byte products a_i·b_j with i + j = k)
 /// is summed into three rotating bytes (r26, r27, r30), one of which leaves as byte k of
-/// the 64-bit product: bytes 2..5 are the result (in r16, r17, r18, r19 by then: b0 and b1
-/// are spent), bytes 6 and 7 and bit 31 tell an overflow. The sign of the result waits in
-/// the T flag.
+/// the 64-bit product: bytes 2..5 are the result, each moved into the register of a_(k−2)
+/// once column k + 1's first product (a_(k−2)·b3) has spent it, so the result ends where
+/// the convention returns it and the routine touches no register it must save; bytes 6
+/// and 7 and bit 31 tell an overflow. The sign of the result waits in the T flag. When
+/// |a| and |b| are both below 256 (their top bytes 0), a short form skips the seven
+/// products of a3 or b3: 9 products instead of 16.
 #[cfg(target_arch = "avr")]
 #[inline(never)]
 pub fn fixed(a: i32, b: i32) -> i32 {
@@ -135,7 +138,7 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "add r27, r0",
             "adc r30, r1",
             "adc r26, r31",
-            // Column 2 into r30, r26, r27: a0·b2, a1·b1, a2·b0. Byte 2 to r16.
+            // Column 2 into r30, r26, r27: a0·b2, a1·b1, a2·b0.
             "clr r27",
             "mul r22, r20",
             "add r30, r0",
@@ -149,10 +152,17 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "add r30, r0",
             "adc r26, r1",
             "adc r27, r31",
-            "mov r16, r30",
-            // Column 3 into r26, r27, r30: a0·b3, a1·b2, a2·b1, a3·b0. Byte 3 to r17.
-            "clr r30",
+            // |a| and |b| both below 256 (a3 and b3 0, as a PID's gains and terms and the
+            // pot's operands are): the short form at 8 below, without the seven products
+            // of a3 or b3.
+            "cp r25, r31",
+            "cpc r21, r31",
+            "breq 8f",
+            // Column 3 into r26, r27, r30: a0·b3 first, which frees a0's r22 for byte 2,
+            // then a1·b2, a2·b1, a3·b0.
             "mul r22, r21",
+            "mov r22, r30",
+            "clr r30",
             "add r26, r0",
             "adc r27, r1",
             "adc r30, r31",
@@ -168,10 +178,10 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "add r26, r0",
             "adc r27, r1",
             "adc r30, r31",
-            "mov r17, r26",
-            // Column 4 into r27, r30, r26: a1·b3, a2·b2, a3·b1. Byte 4 to r18 (b0 is spent).
-            "clr r26",
+            // Column 4 into r27, r30, r26: a1·b3 first (byte 3 to a1's r23), a2·b2, a3·b1.
             "mul r23, r21",
+            "mov r23, r26",
+            "clr r26",
             "add r27, r0",
             "adc r30, r1",
             "adc r26, r31",
@@ -183,10 +193,10 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "add r27, r0",
             "adc r30, r1",
             "adc r26, r31",
-            "mov r18, r27",
-            // Column 5 into r30, r26, r27: a2·b3, a3·b2. Byte 5 to r19 (b1 is spent).
-            "clr r27",
+            // Column 5 into r30, r26, r27: a2·b3 first (byte 4 to a2's r24), a3·b2.
             "mul r24, r21",
+            "mov r24, r27",
+            "clr r27",
             "add r30, r0",
             "adc r26, r1",
             "adc r27, r31",
@@ -194,14 +204,13 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "add r30, r0",
             "adc r26, r1",
             "adc r27, r31",
-            "mov r19, r30",
-            // Column 6 into r26, r27: a3·b3. Bytes 6 and 7: the product is below 2^64.
+            // Column 6 into r26, r27: a3·b3 (byte 5 to a3's r25). Bytes 6 and 7: the
+            // product is below 2^64.
             "mul r25, r21",
+            "mov r25, r30",
             "add r26, r0",
             "adc r27, r1",
             "clr r1",
-            "movw r22, r16",
-            "movw r24, r18",
             // |a·b|/2^16 ≥ 2^31 (a byte 6 or 7, or bit 31): 2^31 − 1, complemented to −2^31
             // when negative.
             "or r26, r27",
@@ -218,6 +227,29 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             "com r23",
             "com r22",
             "rjmp 9f",
+            // The short form of columns 3 and 4, the product below 2^48: bytes 6 and 7
+            // are 0, and column 4's carry out of byte 5 too. Byte 2 to r22 and byte 3 to
+            // r23 as a0 and a1 are spent; bytes 4 and 5 to r24, r25 at the end.
+            "8: mov r22, r30",
+            "clr r30",
+            "mul r23, r20",
+            "add r26, r0",
+            "adc r27, r1",
+            "adc r30, r31",
+            "mul r24, r19",
+            "add r26, r0",
+            "adc r27, r1",
+            "adc r30, r31",
+            "mov r23, r26",
+            "mul r24, r20",
+            "add r27, r0",
+            "adc r30, r1",
+            "clr r1",
+            "mov r24, r27",
+            "mov r25, r30",
+            // Bit 31: the saturation above; else in range, below.
+            "sbrc r25, 7",
+            "rjmp 4b",
             // In range: negated when negative.
             "5: brtc 9f",
             "com r25",
@@ -232,8 +264,6 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             inout("r25r24") high,
             inout("r19r18") b_low => _,
             inout("r21r20") b_high => _,
-            out("r16") _,
-            out("r17") _,
             out("X") _,
             out("Z") _,
             options(pure, nomem, nostack),
