@@ -22,73 +22,20 @@
 //! update at hand, since mapping is the costliest arithmetic on the AVR (and a motor's
 //! only where the value changed since it was last mapped).
 //!
-//! **Cost on the ATmega328P** (measured in the emulator, 16 MHz, calibrate() gains): a
-//! drive/steer tick without a controller update takes about 1,170 cycles (73 µs); a
-//! position update at rest (the same pot reading, every term 0: see [`Motor::holds`])
-//! about 320 more, 530 when its monitoring values are due; a moving position update
-//! about 2,000 more; a drive update (window mode, every 150 ms) about 4,600 more (these
-//! four as the previous round measured them; the one PID routine has since added some
-//! 400 to the drive update, see the maximum below). Drive at 1000 ticks/s and the steer
-//! settled: mean 1,400, max 6,976 cycles a tick (9 % of the CPU; the maximum is the
-//! window-mode drive update, whose 150 ms interval now takes the general division); the
-//! steer moving: mean 2,365, max 8,787 (15 %). A lift/lift board with both lifts working
-//! updates one of them every tick: mean 3,128, max 7,815 cycles a tick (20 %). Flash:
-//! 13,274 B (drive/steer), 11,028 B (lift/lift); static RAM 594 B, stack 180 B. Every
-//! saturating operation off the per-update path is one out-of-line copy
-//! ([`crate::pid`]'s `Saturating`); on it, magnitudes are compared inline without
-//! saturation (the result is the same), since a call there costs the moving figures
-//! some 50 cycles a tick; the drive's one saturating |x| (the speed bound after a
-//! rest) is two compares in line, so no image carries an out-of-line copy of it
-//! (32 B). What keeps the image small: a written parameter's scale comes from a table
-//! in RAM (`PARAM_UNMAPPINGS`, 5 B an entry, 55 B of `.data`) and the seven plain
-//! values share one store (drive 70 B, lift 110 B smaller than a `match` whose arms
-//! load immediates and store each value); the core's power-up state is
-//! compile-time data (`Core::POWER_UP`), copied with the rest of `.data` at reset rather
-//! than stored field by field; the two PID forms are one routine ([`crate::pid::Pid`]),
-//! which the lift image gets specialised, and one out-of-line product
-//! ([`crate::pid::mul`]) with its zero tests inside (240 B less than testing at each
-//! call, 20–70 cycles more a moving tick) and saturation by saturating sums; no 32-bit
-//! library multiplication (the speed's edges·10⁶, a register's raw·span and the
-//! reverse test are 16-bit products or sums); the monitoring values start as the
-//! mapping of 0 (`Monitors::POWER_ON`), so the first mapping needs no "map all" path;
-//! ⌊µs/1000⌋ has one reciprocal (below 2^16 µs) and the division beyond; the lift/lift
-//! board's two position updates are one out-of-line copy (the drive/steer board's one
-//! stays in line), and its image has no encoder task; the LED, bus-silence and CHASSIS
-//! deadlines are 16-bit ms (each is checked often enough that the wrap never shows); a
-//! write finds its motor by one compare (M2's registers follow M1's). Measured and
-//! dropped: the parameter and monitoring scales as tables in flash and one mapping loop
-//! (each image 100 B larger: reading a 10-byte scale from flash takes more code than
-//! the constants it replaces, and the value array costs stores); the four monitoring
-//! values as one loop (130 B larger); the current filters out of line (140 B smaller,
-//! 127 cycles a tick more); the three PID terms as a loop (30 B smaller, 75–95 cycles
-//! more on the lift/lift board); a motor's update or its fault check out of line
-//! (larger); the drive's update without the hold check (46 B smaller, its maximum 400
-//! cycles longer); the motors' power-up state copied from a flash template (1.3 KB
-//! larger); the 16×16 product out of line (86 B smaller, 6–7 % on the moving means);
-//! the PID's two rest tests as one OR of the values' bits (30–72 B smaller each, 20–30
-//! cycles more a moving tick: the compares stop at the first non-zero value; the
-//! monitoring's every-10-ms test of the terms does use one); `div_rem`'s pair
-//! packed in a `u64` (larger); the parameter table with the drive's REQSPEED and
-//! PGAIN too (the optimiser loads those as immediates anyway) and 6-byte entries (F
-//! whole, not its high byte): 24 B larger together; a lift/lift board's due check
-//! inside its out-of-line position update, one call a lift a tick (116 B smaller, 147
-//! cycles more on the lifts' moving mean), the same as one loop over both lifts (36 B
-//! smaller, 133 cycles more), or the check as its own out-of-line routine (40 B
-//! smaller, a call a lift a tick); the ADC interrupt's two current arms as one indexed
-//! arm (10 B smaller, 21 cycles more an ADC interrupt, which shows in the tick
-//! maxima); the clock's whole ms counted in a byte and added once (16 B larger); a
-//! transition-free copy of the state handler for the firmware (no change: the
-//! optimiser already drops the unread transition); the speed's edges·10⁶ as one
-//! product by 15,625 shifted by 6 (54 B smaller, but the encoder bench's highest
-//! lossless rates, at four pin changes per encoder-task run and so set by how the
-//! interrupts happen to line up, came out 48,000 quiet and 56,000 with TWI traffic,
-//! which its quiet ≥ busy check refuses; the image kept gives 64,000 and 48,000,
-//! twelve times the top speed); the pot's high product as a 16-bit multiply (a
-//! library call: 18–32 B larger). What keeps the common tick short:
-//! each motor's two current filters share one step while they agree, the LED levels are kept until a
-//! deadline or the exception latch changes them, a pot reading equal to the last one
-//! reuses its angle, a motor's monitoring values are remapped only where they changed,
-//! and 32-bit products are built from the hardware multiplier ([`super::product`]).
+//! **Cost on the ATmega328P.** Measured figures (tick means and maxima, sizes, what was
+//! tried and dropped) are in `docs/benchmarks.md`, section "Slave". What keeps the
+//! common tick short: each motor's two current filters share one step while they agree;
+//! the LED levels are kept until a deadline or the exception latch changes them; a pot
+//! reading equal to the last one reuses its angle; a position motor at rest (a step whose
+//! error, integral and output are 0: [`Motor::holds`]) skips its controller; a motor's
+//! monitoring values are remapped only where they changed, at most every 10 ms; 32-bit
+//! products come from the hardware multiplier ([`super::product`]). What keeps the image
+//! small: the core's power-up state is compile-time data (`Core::POWER_UP`, copied with
+//! `.data` at reset); the two PID forms share one update; the PID's saturating product,
+//! sum and difference are short assembly routines ([`super::product::fixed`],
+//! [`crate::pid::sum`]); no 32-bit library multiplication is linked; ms deadlines are
+//! 16-bit where a check every tick keeps the wrap from showing; the lift/lift board's
+//! two position updates are one out-of-line copy, and its image has no encoder task.
 //!
 //! **Variant at build time.** `Core<B: Board>`: the firmware builds with a zero-sized
 //! board type, so every `match` on the variant and on a motor's [`Kind`] folds away and
