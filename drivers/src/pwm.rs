@@ -29,16 +29,17 @@ pub struct Pwm {
 }
 
 impl Pwm {
-    /// Starts Timer1 with both duties at 0 (pins low).
+    /// Starts Timer1 with both duties at 0 (pins low): the compare values' reset value,
+    /// which nothing but this driver (given TC1, which exists once per reset) writes.
     ///
     /// # Safety
     /// The caller must own D9 (PB1) and D10 (PB2): this driver makes them outputs.
     pub unsafe fn new(tc1: TC1) -> Pwm {
         // SAFETY: ownership of D9/D10 is the caller's promise.
         let (d9, d10) = unsafe { (Output::take(), Output::take()) };
-        // SAFETY: any 16-bit compare value is valid; the documented mode bits above.
-        tc1.ocr1a().write(|w| unsafe { w.bits(0) });
-        tc1.ocr1b().write(|w| unsafe { w.bits(0) });
+        // Both compare values are still at their reset value, 0 (only the owner of TC1,
+        // taken once per reset, writes them): no stores needed for the duties.
+        // SAFETY: the documented mode bits above.
         tc1.tccr1a().write(|w| unsafe { w.bits(TCCR1A_PWM) });
         tc1.tccr1b().write(|w| unsafe { w.bits(TCCR1B_CLK1) });
         Pwm {

@@ -39,6 +39,23 @@ impl Watchdog {
     /// Reads and clears the reset cause, and stops a watchdog left running by a watchdog
     /// reset (it would otherwise fire again after 16 ms, before the firmware has booted).
     pub fn new(wdt: WDT, cpu: &CPU) -> (Self, ResetCause) {
+        let (mut dog, cause) = Watchdog::take(wdt, cpu);
+        dog.configure(0);
+        (dog, cause)
+    }
+
+    /// [`Watchdog::new`] and [`Watchdog::start`] in one: reads and clears the reset
+    /// cause and runs the watchdog with `timeout` at once (a watchdog left running by a
+    /// watchdog reset is re-timed, with no stop between: one timed sequence, not two).
+    pub fn started(wdt: WDT, cpu: &CPU, timeout: Timeout) -> (Self, ResetCause) {
+        let (mut dog, cause) = Watchdog::take(wdt, cpu);
+        dog.start(timeout);
+        (dog, cause)
+    }
+
+    /// The driver, with the reset cause read and cleared; WDTCSR untouched.
+    #[inline(always)]
+    fn take(wdt: WDT, cpu: &CPU) -> (Self, ResetCause) {
         let flags = cpu.mcusr().read().bits();
         // SAFETY: clearing MCUSR flags has no effect other than on these flags; WDRF must be
         // cleared before WDE can be cleared.
@@ -52,9 +69,7 @@ impl Watchdog {
         } else {
             ResetCause::Unknown
         };
-        let mut dog = Watchdog { wdt };
-        dog.configure(0);
-        (dog, cause)
+        (Watchdog { wdt }, cause)
     }
 
     /// Starts (or re-times) the watchdog in system-reset mode.

@@ -55,8 +55,7 @@ pub struct Parts<B: Board> {
 pub fn init<B: Board>(dp: Device, board: B) -> Parts<B> {
     let variant = board.variant();
     drivers::stack::paint();
-    let (mut watchdog, _cause) = Watchdog::new(dp.WDT, &dp.CPU);
-    watchdog.start(Timeout::S1);
+    let (watchdog, _cause) = Watchdog::started(dp.WDT, &dp.CPU, Timeout::S1);
     // SAFETY: D9/D10 are used only by the PWM, D2/D3/D4/D7 and A2/A3 only by the
     // stage, PD0/PD1 only by the encoder (the USART stays off); each is taken once.
     let (mut stage, encoder) = unsafe {
