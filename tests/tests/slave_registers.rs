@@ -181,8 +181,9 @@ fn read_only_registers_ignore_writes() {
             ],
             _ => vec![id::REGDS_STEER_INTERVALCTRL],
         };
-        // INTERVALCTRL maps 0..1000 ms onto 0..65534: 1 ms is 65, 2 ms 131 raw.
-        let interval_ms = |raw: u16| u32::from(raw) * 1000 / 65_534;
+        // INTERVALCTRL maps 0..1000 ms onto 0..65534, truncating: 1 ms is 65 raw (0.99 ms
+        // unmapped), 2 ms 131 (1.999 ms), so the nearest whole ms.
+        let interval_ms = |raw: u16| (u32::from(raw) * 1000 + 32_767) / 65_534;
         for &reg in &read_only {
             let before = r.read_raw(reg);
             r.bus.write(r.addr, &[reg, 0x5a, 0xa5]).unwrap();
