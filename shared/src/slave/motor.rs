@@ -190,8 +190,15 @@ impl Params {
             Param::StallCheck => {
                 return self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
             }
-            Param::CalibMin => return self.calibration.set_min(value),
-            Param::CalibMax => return self.calibration.set_max(value),
+            Param::CalibMin | Param::CalibMax => {
+                // One rebuild for both ends: the other end kept.
+                let c = &mut self.calibration;
+                let (min, max) = match param {
+                    Param::CalibMin => (value, c.max()),
+                    _ => (c.min(), value),
+                };
+                return *c = Calibration::new(min, max);
+            }
             Param::Required => &mut self.required,
             Param::P => &mut g.p,
             Param::I => &mut g.i,
@@ -656,6 +663,35 @@ mod tests {
             }
         }
         assert!(changed > 15, "{changed}");
+    }
+
+    #[test]
+    fn a_calibration_write_keeps_the_other_end() {
+        // Params::set's one rebuild for both ends is set_min's and set_max's.
+        let raws = [0x00, 0x01, 0x0b, 0x43, 0x7f, 0xc4, 0xf2, 0xfe, 0xff];
+        let unmap = |raw| CALIB.unmap(raw);
+        let mut rebuilt = 0;
+        for first in raws {
+            for second in raws {
+                for (a, b) in [
+                    (Param::CalibMin, Param::CalibMax),
+                    (Param::CalibMax, Param::CalibMin),
+                ] {
+                    let mut params = Params::POWER_ON;
+                    let mut want = params.calibration;
+                    for (param, raw) in [(a, first), (b, second)] {
+                        params.set(Kind::Position, param, raw);
+                        match param {
+                            Param::CalibMin => want.set_min(unmap(raw)),
+                            _ => want.set_max(unmap(raw)),
+                        }
+                        assert_eq!(params.calibration, want, "{param:?} {first} {second}");
+                    }
+                    rebuilt += usize::from(want != Params::POWER_ON.calibration);
+                }
+            }
+        }
+        assert!(rebuilt > 150, "{rebuilt}");
     }
 
     #[test]
