@@ -323,11 +323,20 @@ fn dead_zoned(gains: &Gains, required: Fix, actual: Fix) -> Fix {
 }
 
 fn sum_terms(gains: &Gains, error: Fix, integral: Fix, deriv: Fix) -> Fix {
-    // A zero gain (the usual P or D of a position motor) costs no multiplication: `mul`
-    // tests both operands.
-    mul(gains.p, error)
-        .add_sat(mul(gains.i, integral))
-        .add_sat(mul(gains.d, deriv))
+    // A zero P or D gain (a position motor's, as calibrate() sets them; D is the drive's
+    // too) is skipped before the call to `mul` and to the sum (a saturating sum with 0 is
+    // the other operand, bit for bit): two products and a sum fewer a moving position
+    // update. The I term is always computed (a zero gain or I returns at once inside
+    // `mul`): its test would cost more flash than the drive's skip saves.
+    let mut sum = Fix::ZERO;
+    if gains.p != Fix::ZERO {
+        sum = mul(gains.p, error);
+    }
+    sum = sum.add_sat(mul(gains.i, integral));
+    if gains.d != Fix::ZERO {
+        sum = sum.add_sat(mul(gains.d, deriv));
+    }
+    sum
 }
 
 fn step(error: Fix, integral: Fix, deriv: Fix, control: Fix) -> Step {

@@ -426,7 +426,7 @@ impl<B: Board> Core<B> {
         let angle = m.angle(reading);
         if m.holds(angle, &cx) {
             // At rest: no controller arithmetic, no fault check (see `Motor::holds`).
-            m.hold(Kind::Position, angle, &cx);
+            m.hold(Kind::Position, &cx);
         } else {
             self.update_motor(motor, angle, now_us, now_ms);
         }

@@ -190,8 +190,15 @@ impl Params {
             Param::StallCheck => {
                 return self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
             }
-            Param::CalibMin => return self.calibration.set_min(value),
-            Param::CalibMax => return self.calibration.set_max(value),
+            Param::CalibMin | Param::CalibMax => {
+                // One rebuild for both ends: the other end kept.
+                let c = &mut self.calibration;
+                let (min, max) = match param {
+                    Param::CalibMin => (value, c.max()),
+                    _ => (c.min(), value),
+                };
+                return *c = Calibration::new(min, max);
+            }
             Param::Required => &mut self.required,
             Param::P => &mut g.p,
             Param::I => &mut g.i,
@@ -399,7 +406,7 @@ impl Motor {
     #[inline(always)]
     pub fn update_as(&mut self, kind: Kind, actual: Fix, cx: &UpdateContext) -> Option<LocalFault> {
         if self.holds(actual, cx) {
-            self.hold(kind, actual, cx);
+            self.hold(kind, cx);
             return None;
         }
         self.update_unheld(kind, actual, cx)
@@ -440,7 +447,7 @@ impl Motor {
         } else {
             step.duty.magnitude
         };
-        self.record(kind, actual, Some(&step), duty, cx);
+        self.record(kind, step.error, step.deriv, duty, cx);
         let motion = match kind {
             Kind::Drive => Motion::Speed(actual),
             Kind::Position => Motion::Angle(actual),
@@ -465,24 +472,23 @@ impl Motor {
         self.at_rest && !cx.in_exception && self.pid.last_actual() == actual
     }
 
-    /// An update that [`Motor::holds`]: only the interval and the monitoring values.
+    /// An update that [`Motor::holds`]: only the interval and the monitoring values (its
+    /// measurement is the controller's last, [`Pid::last_actual`]).
     #[inline(always)]
-    pub fn hold(&mut self, kind: Kind, actual: Fix, cx: &UpdateContext) {
-        self.record(kind, actual, None, 0, cx);
+    pub fn hold(&mut self, kind: Kind, cx: &UpdateContext) {
+        // At rest the controller holds this measurement and I = 0 ([`Step::rests`]).
+        self.record(kind, Step::REST.error, Step::REST.deriv, 0, cx);
     }
 
     /// The interval since the previous update, and the monitoring values when due, for
-    /// an update's `step` (`None`: [`Step::REST`]). One copy for [`Motor::update_as`] and
-    /// [`Motor::hold`].
+    /// an update whose step had the error `error` and the derivative `deriv` (both 0 for
+    /// an update that holds: [`Step::REST`]). One copy for [`Motor::update_as`] and
+    /// [`Motor::hold`]. The measurement and the integral are the controller's own after
+    /// the update ([`Pid::last_actual`], [`Pid::integral`]: an update that holds has
+    /// just checked the one and rests with the other 0), so the step's four values
+    /// that do change pass in registers, not through memory.
     #[inline(never)]
-    fn record(
-        &mut self,
-        kind: Kind,
-        actual: Fix,
-        step: Option<&Step>,
-        duty: u8,
-        cx: &UpdateContext,
-    ) {
+    fn record(&mut self, kind: Kind, error: Fix, deriv: Fix, duty: u8, cx: &UpdateContext) {
         let interval_ms = interval_ms(cx.now_us.wrapping_sub(self.last_update_us));
         self.last_update_us = cx.now_us;
         self.monitors.interval_ms = interval_ms;
@@ -494,6 +500,8 @@ impl Motor {
             // A value equal to the one last mapped keeps its raw value: a motor at rest
             // maps nothing. Before the first mapping the raw values are those of 0
             // (tested), so the first maps only what is not 0.
+            let actual = self.pid.last_actual();
+            let integral = self.pid.integral();
             let from = &mut self.mapped_from;
             let raw = &mut self.monitors.raw;
             let scale = |monitor| kind.monitor_mapping(monitor);
@@ -501,10 +509,6 @@ impl Motor {
                 from.actual = actual;
                 raw[0] = map_by(scale(Monitor::Actual), actual);
             }
-            let (error, integral, deriv) = match step {
-                Some(s) => (s.error, s.integral, s.deriv),
-                None => (Fix::ZERO, Fix::ZERO, Fix::ZERO),
-            };
             let zero = (error.to_bits() | integral.to_bits() | deriv.to_bits()) == 0;
             if !(zero && from.terms_zero) {
                 from.terms_zero = zero;
@@ -662,6 +666,35 @@ mod tests {
     }
 
     #[test]
+    fn a_calibration_write_keeps_the_other_end() {
+        // Params::set's one rebuild for both ends is set_min's and set_max's.
+        let raws = [0x00, 0x01, 0x0b, 0x43, 0x7f, 0xc4, 0xf2, 0xfe, 0xff];
+        let unmap = |raw| CALIB.unmap(raw);
+        let mut rebuilt = 0;
+        for first in raws {
+            for second in raws {
+                for (a, b) in [
+                    (Param::CalibMin, Param::CalibMax),
+                    (Param::CalibMax, Param::CalibMin),
+                ] {
+                    let mut params = Params::POWER_ON;
+                    let mut want = params.calibration;
+                    for (param, raw) in [(a, first), (b, second)] {
+                        params.set(Kind::Position, param, raw);
+                        match param {
+                            Param::CalibMin => want.set_min(unmap(raw)),
+                            _ => want.set_max(unmap(raw)),
+                        }
+                        assert_eq!(params.calibration, want, "{param:?} {first} {second}");
+                    }
+                    rebuilt += usize::from(want != Params::POWER_ON.calibration);
+                }
+            }
+        }
+        assert!(rebuilt > 150, "{rebuilt}");
+    }
+
+    #[test]
     fn the_unmapping_table_holds_each_kind_and_params_scale() {
         use Param::*;
         let params = [
@@ -791,6 +824,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_held_update_maps_the_held_measurement_and_zero_terms() {
+        // The record of an update that holds reads the measurement and the integral
+        // from the controller: they must be the held angle and 0.
+        let mut m = Motor::new(Kind::Position);
+        m.start(0);
+        m.set_param(Kind::Position, Param::I, 0x3332);
+        m.set_param(Kind::Position, Param::Required, 0x9998);
+        let required = m.params.required;
+        let cx = |k: u32| UpdateContext {
+            now_us: 2_000 * k,
+            now_ms: 2 * k,
+            in_exception: false,
+            fault_time_ms: 500,
+        };
+        // Off the demand (terms not 0, mapped at 2 ms), then on it: at rest.
+        m.update(required - Fix::from_num(3), &cx(1));
+        assert_ne!(m.monitors().raw[1], Monitors::POWER_ON.raw[1]);
+        let mut held = 0;
+        for k in 2..40 {
+            held += usize::from(m.holds(required, &cx(k)));
+            m.update(required, &cx(k));
+        }
+        assert!(held > 30, "{held}");
+        let scale = |monitor| Kind::Position.monitor_scale(monitor);
+        assert_eq!(
+            m.monitors().raw,
+            [
+                map(scale(Monitor::Actual), required),
+                map(scale(Monitor::Error), Fix::ZERO),
+                map(scale(Monitor::Integral), Fix::ZERO),
+                map(scale(Monitor::Deriv), Fix::ZERO),
+                CONTROL.map_int(0),
+                INTERVAL.map_int(2),
+            ]
+        );
+        assert_ne!(m.monitors().raw[0], Monitors::POWER_ON.raw[0]);
     }
 
     #[test]
