@@ -97,15 +97,17 @@ pub fn rate(edges: u16, span_us: u32) -> Fix {
     if edges == 0 || span_us == 0 {
         return Fix::ZERO;
     }
-    // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check).
-    // Beyond (only for more than 4294 edges in one update): 10^6 = 15625·64, the span
-    // in units of 64 µs; 65535·15625 < 2^32. One product and one division for both.
-    let (factor, span) = if edges <= 4_294 {
-        (1_000_000, span_us)
+    // 10^6 = 15625·64 and edges·15625 is one 16×16 product (65535·15625 < 2^32).
+    // edges·10^6 fits a u32 up to 4294 edges (a compare, not a 64-bit overflow check):
+    // the product shifted by 6. Beyond (only for more than 4294 edges in one update):
+    // the span in units of 64 µs. One product and one division for both.
+    let product = wide(edges, 15_625);
+    let (numerator, span) = if edges <= 4_294 {
+        (product << 6, span_us)
     } else {
-        (15_625, (span_us >> 6).max(1))
+        (product, (span_us >> 6).max(1))
     };
-    let (whole, rem) = div_rem(times(edges, factor), span);
+    let (whole, rem) = div_rem(numerator, span);
     if whole > 32_767 {
         return Fix::MAX;
     }
@@ -125,13 +127,6 @@ pub fn rate(edges: u16, span_us: u32) -> Fix {
 #[inline(always)]
 fn mostly_backward(n: u16, b_high: u16) -> bool {
     b_high > n.saturating_sub(b_high).saturating_sub(b_high)
-}
-
-/// `edges·factor` (wrapping; [`rate`]'s products fit) from two 16×16-bit products: the
-/// AVR's 32-bit multiplication is a library routine the image then need not carry.
-#[inline(always)]
-fn times(edges: u16, factor: u32) -> u32 {
-    (wide(edges, (factor >> 16) as u16) << 16).wrapping_add(wide(edges, factor as u16))
 }
 
 /// The drive's speed measurement between two control updates.
