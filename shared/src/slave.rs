@@ -44,6 +44,7 @@ pub mod registers;
 pub mod scale;
 pub mod silence;
 pub mod state;
+pub mod words;
 
 pub use self::core::{Core, POSITION_PERIOD_US, TICK_US};
 pub use board::{bus_address, Board, DriveSteerBoard, LiftLiftBoard, MotorId, Variant};

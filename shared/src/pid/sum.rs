@@ -13,6 +13,9 @@
 //! [`crate::slave::product`] does.
 #![allow(unsafe_code)]
 
+#[cfg(target_arch = "avr")]
+use crate::slave::words::{halves, join};
+
 /// `a + b`, saturating at `i32::MIN`/`i32::MAX`.
 ///
 /// On the AVR: after the 32-bit sum, an overflow (V) means both operands had the sign the
@@ -20,8 +23,8 @@
 #[cfg(target_arch = "avr")]
 #[inline(never)]
 pub fn add(a: i32, b: i32) -> i32 {
-    let (mut low, mut high) = (a as u16, (a >> 16) as u16);
-    let (b_low, b_high) = (b as u16, (b >> 16) as u16);
+    let (mut low, mut high) = halves(a as u32);
+    let (b_low, b_high) = halves(b as u32);
     // SAFETY: register arithmetic only (no memory, no stack) on the operands' registers;
     // r1 (the zero register) is only read; SREG is not preserved.
     unsafe {
@@ -48,7 +51,7 @@ pub fn add(a: i32, b: i32) -> i32 {
             options(pure, nomem, nostack),
         );
     }
-    (u32::from(high) << 16 | u32::from(low)) as i32
+    join(low, high) as i32
 }
 
 /// `a − b`, saturating at `i32::MIN`/`i32::MAX`.
@@ -59,8 +62,8 @@ pub fn add(a: i32, b: i32) -> i32 {
 #[cfg(target_arch = "avr")]
 #[inline(never)]
 pub fn sub(a: i32, b: i32) -> i32 {
-    let (mut low, mut high) = (a as u16, (a >> 16) as u16);
-    let (b_low, b_high) = (b as u16, (b >> 16) as u16);
+    let (mut low, mut high) = halves(a as u32);
+    let (b_low, b_high) = halves(b as u32);
     // SAFETY: register arithmetic only (no memory, no stack) on the operands' registers;
     // r1 (the zero register) is only read; SREG is not preserved.
     unsafe {
@@ -87,7 +90,7 @@ pub fn sub(a: i32, b: i32) -> i32 {
             options(pure, nomem, nostack),
         );
     }
-    (u32::from(high) << 16 | u32::from(low)) as i32
+    join(low, high) as i32
 }
 
 /// |x|, exact (|i32::MIN| is 2^31).
@@ -97,7 +100,7 @@ pub fn sub(a: i32, b: i32) -> i32 {
 #[cfg(target_arch = "avr")]
 #[inline(always)]
 pub fn magnitude(x: i32) -> u32 {
-    let (mut low, mut high) = (x as u16, (x >> 16) as u16);
+    let (mut low, mut high) = halves(x as u32);
     // SAFETY: register arithmetic only (no memory, no stack) on the operand's registers;
     // r1 (the zero register) is only read; SREG is not preserved.
     unsafe {
@@ -119,7 +122,7 @@ pub fn magnitude(x: i32) -> u32 {
             options(pure, nomem, nostack),
         );
     }
-    u32::from(high) << 16 | u32::from(low)
+    join(low, high)
 }
 
 /// `x`, or 0 when |x| < `zone` (unsigned).
@@ -129,8 +132,8 @@ pub fn magnitude(x: i32) -> u32 {
 #[cfg(target_arch = "avr")]
 #[inline(always)]
 pub fn dead_zone(x: i32, zone: u32) -> i32 {
-    let (mut low, mut high) = (x as u16, (x >> 16) as u16);
-    let (zone_low, zone_high) = (zone as u16, (zone >> 16) as u16);
+    let (mut low, mut high) = halves(x as u32);
+    let (zone_low, zone_high) = halves(zone);
     // SAFETY: register arithmetic only (no memory, no stack) on the operands' and the
     // two scratch pairs' registers; r1 (the zero register) is only read; SREG is not
     // preserved.
@@ -167,7 +170,7 @@ pub fn dead_zone(x: i32, zone: u32) -> i32 {
             options(pure, nomem, nostack),
         );
     }
-    (u32::from(high) << 16 | u32::from(low)) as i32
+    join(low, high) as i32
 }
 
 /// `x`, or 0 when |x| < `zone` (unsigned).
@@ -188,8 +191,8 @@ pub fn dead_zone(x: i32, zone: u32) -> i32 {
 #[cfg(target_arch = "avr")]
 #[inline(always)]
 pub fn clamp(x: i32, cap: i32) -> i32 {
-    let (mut low, mut high) = (x as u16, (x >> 16) as u16);
-    let (cap_low, cap_high) = (cap as u16, (cap >> 16) as u16);
+    let (mut low, mut high) = halves(x as u32);
+    let (cap_low, cap_high) = halves(cap as u32);
     // SAFETY: register arithmetic only (no memory, no stack) on the operands' and the
     // two scratch pairs' registers; r1 (the zero register) is only read; SREG is not
     // preserved.
@@ -227,7 +230,7 @@ pub fn clamp(x: i32, cap: i32) -> i32 {
             options(pure, nomem, nostack),
         );
     }
-    (u32::from(high) << 16 | u32::from(low)) as i32
+    join(low, high) as i32
 }
 
 /// `x` clamped to ±`cap`, for cap ≥ 0.

@@ -11,6 +11,9 @@
 //! for its flash reads.
 #![allow(unsafe_code)]
 
+#[cfg(target_arch = "avr")]
+use super::words::{halves, join};
+
 use super::product::wide;
 
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
@@ -20,7 +23,8 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
     if d == 0 {
         return (u32::MAX, n);
     }
-    let (mut q_lo, mut q_hi) = (n as u16, (n >> 16) as u16);
+    let (mut q_lo, mut q_hi) = halves(n);
+    let (d_lo, d_hi) = halves(d);
     let (r_lo, r_hi): (u16, u16);
     // SAFETY: register arithmetic only (no memory, no stack, r0/r1 untouched): the
     // same restoring division as the portable version below, one quotient bit a step.
@@ -57,18 +61,15 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
             "brne 1b",
             q_lo = inout(reg_pair) q_lo,
             q_hi = inout(reg_pair) q_hi,
-            d_lo = in(reg_pair) d as u16,
-            d_hi = in(reg_pair) (d >> 16) as u16,
+            d_lo = in(reg_pair) d_lo,
+            d_hi = in(reg_pair) d_hi,
             r_lo = out(reg_pair) r_lo,
             r_hi = out(reg_pair) r_hi,
             count = out(reg_upper) _,
             options(pure, nomem, nostack),
         );
     }
-    (
-        u32::from(q_hi) << 16 | u32::from(q_lo),
-        u32::from(r_hi) << 16 | u32::from(r_lo),
-    )
+    (join(q_lo, q_hi), join(r_lo, r_hi))
 }
 
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).

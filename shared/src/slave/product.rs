@@ -17,6 +17,9 @@
 //! for its flash reads.
 #![allow(unsafe_code)]
 
+#[cfg(target_arch = "avr")]
+use super::words::{halves, join};
+
 /// `a·b` as a `u32`, exact (the full product of two `u16` fits).
 #[cfg(target_arch = "avr")]
 #[inline(always)]
@@ -49,7 +52,7 @@ pub fn wide(a: u16, b: u16) -> u32 {
             options(pure, nomem, nostack),
         );
     }
-    u32::from(high) << 16 | u32::from(low)
+    join(low, high)
 }
 
 /// `a·b` as a `u32`, exact (the full product of two `u16` fits).
@@ -77,8 +80,8 @@ pub fn wide(a: u16, b: u16) -> u32 {
 #[inline(never)]
 pub fn fixed(a: i32, b: i32) -> i32 {
     // The halves as register pairs: bytes would cost moves to reassemble the result.
-    let (mut low, mut high) = (a as u16, (a >> 16) as u16);
-    let (b_low, b_high) = (b as u16, (b >> 16) as u16);
+    let (mut low, mut high) = halves(a as u32);
+    let (b_low, b_high) = halves(b as u32);
     // SAFETY: register arithmetic only (no memory, no stack); every register it writes is
     // an operand or a clobber below, besides r0 (the scratch register), r1 (the zero
     // register, which `mul` overwrites and which is cleared again before the block ends,
@@ -269,7 +272,7 @@ pub fn fixed(a: i32, b: i32) -> i32 {
             options(pure, nomem, nostack),
         );
     }
-    (u32::from(high) << 16 | u32::from(low)) as i32
+    join(low, high) as i32
 }
 
 /// `a·b` for two `I16F16` values in bits: ⌊|a·b|/2^16⌋ with the sign of a·b, saturated
