@@ -25,3 +25,5 @@ pub mod progmem;
 pub mod protocol;
 pub mod regs;
 pub mod slave;
+#[cfg(test)]
+mod test_random;

@@ -112,13 +112,8 @@ mod tests {
 
     #[test]
     fn the_first_call_and_every_later_one_count_as_wide_arithmetic() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |bound: u32| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 32) as u32 % bound
-        };
+        let mut random = crate::test_random::Xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = |bound: u32| random.below(bound);
         let mut long = 0;
         for run in 0..3_000u32 {
             // First calls from 0 up (both paths), then the far end of the clock.

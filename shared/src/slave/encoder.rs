@@ -435,13 +435,8 @@ mod tests {
     fn one_rate_for_both_modes_equals_each_case_written_out() {
         // Random runs: ticks of 1 ms (sometimes a long stall), 0–3 edges a tick at
         // random times within it, bursts and rests, the mode switching now and then.
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |bound: u32| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 32) as u32 % bound
-        };
+        let mut random = crate::test_random::Xorshift(0x2545_f491_4f6c_dd1du64);
+        let mut next = |bound: u32| random.below(bound);
         let (mut nonzero, mut bounded, mut capped, mut updates) = (0, 0, 0, 0);
         for run in 0..200u32 {
             let start = next(u32::MAX).wrapping_add(run);
