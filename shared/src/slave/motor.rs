@@ -353,17 +353,22 @@ impl Motor {
     pub fn angle_in_line(&mut self, reading: u16) {
         let reading = reading.min(ADC_MAX);
         if reading != self.angle_reading {
-            self.angle = self.params.calibration.angle(reading);
-            self.angle_reading = reading;
+            self.keep_angle(reading);
         }
     }
 
     /// [`Motor::angle`] of a new reading.
     #[inline(never)]
     fn convert(&mut self, reading: u16) -> Fix {
+        self.keep_angle(reading);
+        self.angle
+    }
+
+    /// Converts `reading` and keeps it with its angle.
+    #[inline(always)]
+    fn keep_angle(&mut self, reading: u16) {
         self.angle = self.params.calibration.angle(reading);
         self.angle_reading = reading;
-        self.angle
     }
 
     /// Starts the interval clock at the board's first tick.
