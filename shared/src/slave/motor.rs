@@ -445,7 +445,10 @@ impl Motor {
             Form::Speed
         };
         let step = self.pid.update(form, &self.params.gains, required, actual);
-        self.at_rest = kind == Kind::Position && !cx.in_exception && step.rests();
+        // `&` on the kind, not `&&`: a branch on it here would let the optimiser split the
+        // drive/steer board's update by kind from the controller's form on and carry the
+        // duty's conversion twice (54 B).
+        self.at_rest = position & (!cx.in_exception && step.rests());
         self.demand = step.duty;
         let duty = if cx.in_exception {
             0
