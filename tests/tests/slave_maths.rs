@@ -63,6 +63,11 @@ fn division_matches_the_host_at_the_edges_and_on_random_operands() {
             cases += 1;
         }
     }
+    // A zero divisor: every step subtracts 0 (no test for it in the routine).
+    for &n in &EDGES {
+        assert_eq!(request(&mut avr, 0, n, 0), (u32::MAX, n), "{n} / 0");
+        cases += 1;
+    }
     let values: Vec<u32> = operands(400).collect();
     for pair in values.chunks(2) {
         let n = pair[0];
@@ -71,7 +76,7 @@ fn division_matches_the_host_at_the_edges_and_on_random_operands() {
         assert_eq!(request(&mut avr, 0, n, d), (n / d, n % d), "{n} / {d}");
         cases += 1;
     }
-    assert_eq!(cases, 13 * 12 + 200);
+    assert_eq!(cases, 13 * 12 + 13 + 200);
 }
 
 #[test]

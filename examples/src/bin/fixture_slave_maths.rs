@@ -2,7 +2,7 @@
 //! host picks, so each is checked against the host's own arithmetic (the host builds of
 //! all of them are plain Rust). Prints `maths ready\r\n`, then answers 9-byte requests
 //! `op, a (u32 LE), b (u32 LE)` with 8 bytes, two u32 LE (the second 0 for one result):
-//! - op 0: `divide::div_rem(a, b)` (b non-zero): quotient, remainder;
+//! - op 0: `divide::div_rem(a, b)`: quotient, remainder (`(u32::MAX, a)` for b = 0);
 //! - op 1: `product::wide(a as u16, b as u16)`: the 16×16→32 product;
 //! - op 2: `product::fixed(a, b)`: the PID's saturating `I16F16` product;
 //! - op 3 / 4: `pid::sum::add(a, b)` / `sub(a, b)`: saturating sum / difference;
@@ -29,7 +29,7 @@ fn main() -> ! {
         let (a, b) = (black_box(a), black_box(b));
         let (sa, sb) = (a as i32, b as i32);
         let (x, y) = match req[0] {
-            0 if b != 0 => div_rem(a, b),
+            0 => div_rem(a, b),
             1 => (product::wide(a as u16, b as u16), 0),
             2 => (product::fixed(sa, sb) as u32, 0),
             3 => (sum::add(sa, sb) as u32, 0),

@@ -6,9 +6,12 @@
 //! bytes serves them all, with the same result as `/` and `%`.
 //!
 //! On the AVR the loop is written out in instructions (some 20 cycles a step, 650 a
-//! division): LLVM's code for the same loop takes some 75 cycles a step. The crate
-//! denies `unsafe`; this module allows it for that one `asm!` block, as `progmem` does
-//! for its flash reads.
+//! division): LLVM's code for the same loop takes some 75 cycles a step. It is one
+//! routine that takes and returns everything in registers, called from an inline
+//! `asm!` block: as a Rust function returning the pair it made each caller keep a stack
+//! frame to receive it (194 / 168 B more in the two slave images). The crate denies
+//! `unsafe`; this module allows it for that block, as `progmem` does for its flash
+//! reads.
 #![allow(unsafe_code)]
 
 #[cfg(target_arch = "avr")]
@@ -16,57 +19,75 @@ use super::words::{halves, join};
 
 use super::product::wide;
 
-/// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
+// The division loop on the AVR, one routine with its operands and results in fixed
+// registers (n in r25..r22, d in r21..r18; the quotient in r25..r22, the remainder in
+// r31, r30, r27, r26), called from [`div_rem`]'s inline `asm!`: the pair comes back in
+// registers, where a Rust function returns it through memory, and each caller would
+// need a stack frame to receive it. The restoring division of the portable version
+// below, one quotient bit a step, counted in r0 (the scratch register, free in
+// assembly). A bit carried out of the remainder (only when d > 2^31) means it exceeds
+// d. With d = 0 every step subtracts 0 and sets its bit: (u32::MAX, n), with no test.
 #[cfg(target_arch = "avr")]
-#[inline(never)]
+core::arch::global_asm!(
+    ".pushsection .text.shared_slave_div_rem,\"ax\",@progbits",
+    ".global shared_slave_div_rem",
+    "shared_slave_div_rem:",
+    "ldi r26, 32",
+    "mov r0, r26",
+    "clr r26",
+    "clr r27",
+    "clr r30",
+    "clr r31",
+    "1:",
+    "lsl r22",
+    "rol r23",
+    "rol r24",
+    "rol r25",
+    "rol r26",
+    "rol r27",
+    "rol r30",
+    "rol r31",
+    "brcs 2f",
+    "cp r26, r18",
+    "cpc r27, r19",
+    "cpc r30, r20",
+    "cpc r31, r21",
+    "brcs 3f",
+    "2:",
+    "sub r26, r18",
+    "sbc r27, r19",
+    "sbc r30, r20",
+    "sbc r31, r21",
+    "inc r22",
+    "3:",
+    "dec r0",
+    "brne 1b",
+    "ret",
+    ".popsection",
+);
+
+/// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
+///
+/// On the AVR a call of the routine above, in line: a few moves into its registers.
+#[cfg(target_arch = "avr")]
+#[inline(always)]
 pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
-    if d == 0 {
-        return (u32::MAX, n);
-    }
     let (mut q_lo, mut q_hi) = halves(n);
     let (d_lo, d_hi) = halves(d);
     let (r_lo, r_hi): (u16, u16);
-    // SAFETY: register arithmetic only (no memory, no stack, r0/r1 untouched): the
-    // same restoring division as the portable version below, one quotient bit a step.
-    // A bit carried out of the remainder (only when d > 2^31) means it exceeds d.
+    // SAFETY: the routine touches only the registers named here, r0 (the scratch
+    // register) and SREG, and of memory only the stack, for its return address; it
+    // reads no memory and leaves r1 (the zero register) as it found it.
     unsafe {
         core::arch::asm!(
-            "clr {r_lo:l}",
-            "clr {r_lo:h}",
-            "movw {r_hi:l}, {r_lo:l}",
-            "ldi {count}, 32",
-            "1:",
-            "lsl {q_lo:l}",
-            "rol {q_lo:h}",
-            "rol {q_hi:l}",
-            "rol {q_hi:h}",
-            "rol {r_lo:l}",
-            "rol {r_lo:h}",
-            "rol {r_hi:l}",
-            "rol {r_hi:h}",
-            "brcs 2f",
-            "cp {r_lo:l}, {d_lo:l}",
-            "cpc {r_lo:h}, {d_lo:h}",
-            "cpc {r_hi:l}, {d_hi:l}",
-            "cpc {r_hi:h}, {d_hi:h}",
-            "brcs 3f",
-            "2:",
-            "sub {r_lo:l}, {d_lo:l}",
-            "sbc {r_lo:h}, {d_lo:h}",
-            "sbc {r_hi:l}, {d_hi:l}",
-            "sbc {r_hi:h}, {d_hi:h}",
-            "inc {q_lo:l}",
-            "3:",
-            "dec {count}",
-            "brne 1b",
-            q_lo = inout(reg_pair) q_lo,
-            q_hi = inout(reg_pair) q_hi,
-            d_lo = in(reg_pair) d_lo,
-            d_hi = in(reg_pair) d_hi,
-            r_lo = out(reg_pair) r_lo,
-            r_hi = out(reg_pair) r_hi,
-            count = out(reg_upper) _,
-            options(pure, nomem, nostack),
+            "call shared_slave_div_rem",
+            inout("r23r22") q_lo,
+            inout("r25r24") q_hi,
+            in("r19r18") d_lo,
+            in("r21r20") d_hi,
+            out("X") r_lo,
+            out("Z") r_hi,
+            options(pure, nomem),
         );
     }
     (join(q_lo, q_hi), join(r_lo, r_hi))
