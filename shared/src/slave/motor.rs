@@ -67,15 +67,21 @@ const DERIV: Scale = Scale::of(&DS, id::REGDS_DRIVE_ERRORDERIV);
 const CONTROL: Scale = Scale::of(&DS, id::REGDS_DRIVE_CONTROL);
 const INTERVAL: Scale = Scale::of(&DS, id::REGDS_DRIVE_INTERVALCTRL);
 
-// The monitoring scales as `static`s, for [`Kind::monitor_mapping`].
+// The monitoring scales as `static`s, for [`Kind::monitor_mapping`]: one per distinct
+// mapping (8 B of `.data` each), so registers with the same range share one: the
+// drive's ERROR and every ERRORINTEGRAL (±1000), a position motor's ACTUALPOS and ERROR
+// and every ERRORDERIV (±200). The build fails if the tables ever give those different
+// scales.
 static DRIVE_ACTUAL_MAP: Mapping = DRIVE_ACTUAL.mapping();
 static DRIVE_ERROR_MAP: Mapping = DRIVE_ERROR.mapping();
 static POSITION_ACTUAL_MAP: Mapping = POSITION_ACTUAL.mapping();
-static POSITION_ERROR_MAP: Mapping = POSITION_ERROR.mapping();
-static INTEGRAL_MAP: Mapping = INTEGRAL.mapping();
-static DERIV_MAP: Mapping = DERIV.mapping();
 static CONTROL_MAP: Mapping = CONTROL.mapping();
 static INTERVAL_MAP: Mapping = INTERVAL.mapping();
+const _: () = assert!(
+    INTEGRAL.maps_as(DRIVE_ERROR)
+        && POSITION_ERROR.maps_as(POSITION_ACTUAL)
+        && DERIV.maps_as(POSITION_ACTUAL)
+);
 
 impl Kind {
     /// How a motor of a variant is controlled: the drive/steer board's M1 is the drive,
@@ -125,9 +131,10 @@ impl Kind {
             (Kind::Drive, Monitor::Actual) => &DRIVE_ACTUAL_MAP,
             (Kind::Position, Monitor::Actual) => &POSITION_ACTUAL_MAP,
             (Kind::Drive, Monitor::Error) => &DRIVE_ERROR_MAP,
-            (Kind::Position, Monitor::Error) => &POSITION_ERROR_MAP,
-            (_, Monitor::Integral) => &INTEGRAL_MAP,
-            (_, Monitor::Deriv) => &DERIV_MAP,
+            // The statics shared by equal scales (see their definitions).
+            (Kind::Position, Monitor::Error) => &POSITION_ACTUAL_MAP,
+            (_, Monitor::Integral) => &DRIVE_ERROR_MAP,
+            (_, Monitor::Deriv) => &POSITION_ACTUAL_MAP,
             (_, Monitor::Control) => &CONTROL_MAP,
             (_, Monitor::Interval) => &INTERVAL_MAP,
             (_, Monitor::Current) => return None,
@@ -647,6 +654,38 @@ mod tests {
         assert_eq!(INTERVAL_MAP.map_int(2), INTERVAL.map_int(2));
         assert_eq!(CONTROL_MAP.map_int(255), 0xfffe);
         assert!(mapped > 80, "{mapped}");
+    }
+
+    #[test]
+    fn shared_monitoring_statics_serve_equal_scales_only() {
+        // The pairs that share a static map alike; others do not.
+        assert!(INTEGRAL.maps_as(DRIVE_ERROR) && DRIVE_ERROR.maps_as(INTEGRAL));
+        assert!(DERIV.maps_as(POSITION_ACTUAL) && POSITION_ERROR.maps_as(POSITION_ACTUAL));
+        for (a, b) in [
+            (DRIVE_ACTUAL, DRIVE_ERROR),
+            (DRIVE_ERROR, POSITION_ERROR),
+            (CONTROL, INTERVAL),
+            (INTERVAL, DRIVE_ERROR),
+            (CAP, INTEGRAL),
+        ] {
+            assert!(!a.maps_as(b), "{a:?} {b:?}");
+        }
+        assert_eq!(
+            INTEGRAL.map(Fix::from_num(-999.5)),
+            DRIVE_ERROR.map(Fix::from_num(-999.5))
+        );
+        // Five statics for the eight mapped monitors of the two kinds.
+        let mut distinct: Vec<*const Mapping> = Vec::new();
+        for kind in [Kind::Drive, Kind::Position] {
+            for monitor in Monitor::ALL {
+                if let Some(m) = kind.monitor_mapping(monitor) {
+                    if !distinct.contains(&(m as *const Mapping)) {
+                        distinct.push(m);
+                    }
+                }
+            }
+        }
+        assert_eq!(distinct.len(), 5);
     }
 
     #[test]

@@ -95,6 +95,12 @@ impl Scale {
         }
     }
 
+    /// Whether `other` maps every value to the same raw value ([`Scale::map`]): the same
+    /// [`Mapping`]. For compile-time checks of a shared `static`.
+    pub const fn maps_as(self, other: Scale) -> bool {
+        self.min == other.min && self.span == other.span && self.reciprocal == other.reciprocal
+    }
+
     /// The part of the scale [`Scale::unmap`] uses, for a table.
     pub const fn unmapping(self) -> Unmapping {
         Unmapping {
