@@ -12,6 +12,7 @@ use crate::regs::{id, DS};
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
 pub const MONITOR_PERIOD_US: u32 = 10_000;
+const _: () = assert!(MONITOR_PERIOD_US <= u16::MAX as u32);
 
 /// The power-on overcurrent threshold of every motor, raw ADC counts.
 pub const THRESHOLD_POWER_ON: u16 = 300;
@@ -285,8 +286,9 @@ pub struct Motor {
     fault: FaultDetector,
     /// When the previous update ran (or the board started), µs.
     last_update_us: u32,
-    /// When the monitoring values were last mapped, µs.
-    mapped_us: u32,
+    /// µs from the last mapping of the monitoring values to the previous update (or to
+    /// the start): below [`MONITOR_PERIOD_US`] after each update, so 16 bits hold it.
+    since_mapped_us: u16,
     monitors: Monitors,
     /// What the monitoring values were last mapped from (at power-up: what
     /// [`Monitors::POWER_ON`] maps from).
@@ -318,7 +320,7 @@ impl Motor {
             level: CurrentFilter::new(),
             fault: FaultDetector::new(),
             last_update_us: 0,
-            mapped_us: 0,
+            since_mapped_us: 0,
             monitors: Monitors::POWER_ON,
             mapped_from: MappedFrom::POWER_ON,
             angle_reading: NO_READING,
@@ -381,7 +383,8 @@ impl Motor {
     /// Starts the interval clock at the board's first tick.
     pub fn start(&mut self, now_us: u32) {
         self.last_update_us = now_us;
-        self.mapped_us = now_us.wrapping_sub(MONITOR_PERIOD_US);
+        // The first update maps.
+        self.since_mapped_us = MONITOR_PERIOD_US as u16;
     }
 
     /// Feeds a tick's current readings; returns an overcurrent fault if the peak is above
@@ -504,13 +507,17 @@ impl Motor {
     /// that do change pass in registers, not through memory.
     #[inline(never)]
     fn record(&mut self, kind: Kind, error: Fix, deriv: Fix, duty: u8, cx: &UpdateContext) {
-        let interval_ms = interval_ms(cx.now_us.wrapping_sub(self.last_update_us));
+        let gap = cx.now_us.wrapping_sub(self.last_update_us);
+        let interval_ms = interval_ms(gap);
         self.last_update_us = cx.now_us;
         self.monitors.interval_ms = interval_ms;
         // Mapping six values costs more than the update itself on the AVR, so the
-        // monitoring registers are refreshed from every update at most every 10 ms.
-        if cx.now_us.wrapping_sub(self.mapped_us) >= MONITOR_PERIOD_US {
-            self.mapped_us = cx.now_us;
+        // monitoring registers are refreshed from every update at most every 10 ms: the
+        // time since the last mapping (wrapping as a 32-bit µs difference would).
+        let since = u32::from(self.since_mapped_us).wrapping_add(gap);
+        self.since_mapped_us = since as u16;
+        if since >= MONITOR_PERIOD_US {
+            self.since_mapped_us = 0;
             self.fresh = true;
             // A value equal to the one last mapped keeps its raw value: a motor at rest
             // maps nothing. Before the first mapping the raw values are those of 0
@@ -654,6 +661,54 @@ mod tests {
         assert_eq!(INTERVAL_MAP.map_int(2), INTERVAL.map_int(2));
         assert_eq!(CONTROL_MAP.map_int(255), 0xfffe);
         assert!(mapped > 80, "{mapped}");
+    }
+
+    #[test]
+    fn the_mapping_period_is_due_as_with_a_32_bit_timestamp() {
+        // The form replaced: the 32-bit µs of the last mapping (0 at power-up, 10 ms
+        // before the start), due when now − it ≥ 10 ms, wrapping. Gaps of every size:
+        // short ones (the position motors' 2 ms), the drive's 150 ms windows, gaps past
+        // 2^16 and 2^24 µs, and the clock stepping back, from before and past 2^32 µs.
+        let mut m = Motor::new(Kind::Position);
+        let mut mapped_us = 0u32;
+        let mut now = u32::MAX - 3_000_000;
+        let mut seed = 0x2545_f491u32;
+        let (mut due, mut not_due) = (0, 0);
+        assert!(m.take_fresh());
+        for k in 0..30_000 {
+            if k == 5 || k == 20_000 {
+                m.start(now);
+                mapped_us = now.wrapping_sub(MONITOR_PERIOD_US);
+            }
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            let gap = match seed % 10 {
+                0 => seed >> 8,
+                1 => 65_536 + seed % 30_000,
+                2 => 150_000 + seed % 2,
+                3 => u32::MAX - seed % 5_000,
+                4..=6 => seed % 12_000,
+                _ => seed % 3_000,
+            };
+            now = now.wrapping_add(gap);
+            let cx = UpdateContext {
+                now_us: now,
+                now_ms: now / 1000,
+                in_exception: false,
+                fault_time_ms: 500,
+            };
+            m.update(Fix::from_bits((seed as i32) >> 9), &cx);
+            let want = now.wrapping_sub(mapped_us) >= MONITOR_PERIOD_US;
+            if want {
+                mapped_us = now;
+                due += 1;
+            } else {
+                not_due += 1;
+            }
+            assert_eq!(m.take_fresh(), want, "update {k}, gap {gap}");
+        }
+        assert!(due > 10_000 && not_due > 5_000, "{due} {not_due}");
     }
 
     #[test]
