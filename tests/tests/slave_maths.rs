@@ -2,8 +2,9 @@
 //! `shared::slave::product` and `shared::pid::sum`) through `fixture_slave_maths`: the
 //! division at its edges and on pseudo-random operands, the 16×16→32 product, and the
 //! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
-//! on every pair of corner values and on pseudo-random operands of every width, each
-//! checked against the host's own arithmetic written out here. The host builds of these
+//! on every pair of corner values and on pseudo-random operands of every width, and the
+//! monitoring values' mapping (`shared::slave::scale`) by nine scales, each checked
+//! against the host's own arithmetic (written out here, or the host build's). The host builds of these
 //! functions are plain Rust, so only this test shows the assembly right.
 
 use harness::Avr;
@@ -231,4 +232,51 @@ fn magnitude_dead_zone_and_clamp_match_the_host() {
     let clamp = |a: i32, b: i32| (b >= 0).then(|| a.clamp(-b, b));
     let checked = check_pairs(7, 300, clamp);
     assert!(checked > 250, "only {checked} pairs with a cap ≥ 0");
+}
+
+/// The fixture's op 8 scales, in its order (`MAPPINGS` in `fixture_slave_maths`).
+const MAPPED: [u8; 9] = [
+    shared::regs::id::REGDS_DRIVE_ACTUALSPEED,
+    shared::regs::id::REGDS_DRIVE_ERROR,
+    shared::regs::id::REGDS_STEER_ACTUALPOS,
+    shared::regs::id::REGDS_DRIVE_CONTROL,
+    shared::regs::id::REGDS_DRIVE_INTERVALCTRL,
+    shared::regs::id::REGDS_CHASSIS,
+    shared::regs::id::REGDS_DRIVE_INTEGRALDECAY,
+    shared::regs::id::REGDS_DRIVE_PGAIN,
+    shared::regs::id::REGDS_DRIVE_STALLCHECK,
+];
+
+#[test]
+fn monitoring_map_matches_the_host_at_the_clamps_and_on_random_values() {
+    use shared::pid::Fix;
+    use shared::slave::scale::Scale;
+    let mut avr = fixture();
+    let random: Vec<i32> = signed_operands(120).collect();
+    let mut checked = 0;
+    let mut inside = 0;
+    for (index, &id) in MAPPED.iter().enumerate() {
+        let scale = Scale::of(&shared::regs::DS, id);
+        let range = shared::regs::DS[usize::from(id)].range.unwrap();
+        let (a, b) = ((range.min as i32) << 16, (range.max as i32) << 16);
+        // Each end and one bit either side of it, the middle, whole values near the
+        // ends, every corner, then the random values (most beyond the small ranges:
+        // scaled into the range too).
+        let mut values = vec![a - 1, a, a + 1, b - 1, b, b + 1, (a + b) / 2, a + 0x1_0000];
+        values.extend([b - 0x1_0000, b - 0x8000, a + 0xffff]);
+        values.extend(SIGNED.iter().copied());
+        for &x in &random {
+            values.push(x);
+            values.push(a.wrapping_add((x as u32 % (b - a) as u32) as i32));
+        }
+        for v in values {
+            let want = scale.map(Fix::from_bits(v));
+            let got = request(&mut avr, 8, v as u32, index as u32);
+            assert_eq!(got, (u32::from(want), 0), "register {id}: {v:#x}");
+            checked += 1;
+            inside += usize::from(want != 0 && u32::from(want) != 65_534 && want != 254);
+        }
+    }
+    assert_eq!(checked, 9 * (11 + SIGNED.len() + 240));
+    assert!(inside > 9 * 150, "{inside} values inside the ranges");
 }

@@ -8,14 +8,32 @@
 //! - op 3 / 4: `pid::sum::add(a, b)` / `sub(a, b)`: saturating sum / difference;
 //! - op 5: `pid::sum::magnitude(a)`;
 //! - op 6: `pid::sum::dead_zone(a, b)`;
-//! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0).
+//! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0);
+//! - op 8: `scale::Mapping::map` of the value with bits a by scale b of [`MAPPINGS`]:
+//!   the raw monitoring value.
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
-use shared::pid::sum;
+use shared::pid::{sum, Fix};
+use shared::regs::{id, DS};
+use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
+
+/// Op 8's scales, by index: the monitoring ranges (±4000, ±1000, ±200, ±255, 0..1000),
+/// CHASSIS, and reciprocals of other widths (0..1 near 2^32, 0..10, a one-byte 0..255).
+static MAPPINGS: [Mapping; 9] = [
+    Scale::of(&DS, id::REGDS_DRIVE_ACTUALSPEED).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_ERROR).mapping(),
+    Scale::of(&DS, id::REGDS_STEER_ACTUALPOS).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_CONTROL).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_INTERVALCTRL).mapping(),
+    Scale::of(&DS, id::REGDS_CHASSIS).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_INTEGRALDECAY).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_PGAIN).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_STALLCHECK).mapping(),
+];
 
 #[avr_device::entry]
 fn main() -> ! {
@@ -37,6 +55,10 @@ fn main() -> ! {
             5 => (sum::magnitude(sa), 0),
             6 => (sum::dead_zone(sa, b) as u32, 0),
             7 if sb >= 0 => (sum::clamp(sa, sb) as u32, 0),
+            8 => match MAPPINGS.get(b as usize) {
+                Some(mapping) => (u32::from(mapping.map(Fix::from_bits(sa))), 0),
+                None => (u32::MAX, u32::MAX),
+            },
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);

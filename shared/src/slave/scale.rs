@@ -11,13 +11,21 @@
 //!   (the integer part of `unmap`'s result); it equals the original's float32 result for
 //!   every raw value (tested exhaustively).
 //! - [`Scale::map`] (value → raw, clamped) runs for every monitoring value, so it uses a
-//!   reciprocal computed at compile time and four 16×16-bit products.
+//!   reciprocal computed at compile time and four 16×16-bit products; on the AVR one
+//!   routine in assembly (15 byte products, 164 B where the Rust took 262 B), checked on
+//!   the chip against the host's form (`slave_maths`).
 //!
 //! Ranges with span 65535 would overflow `raw·span`; the tables have none (the widest
 //! is 8000).
+//!
+//! The crate denies `unsafe`; this module allows it for the AVR's mapping routine in
+//! assembly, as [`super::product`] does.
+#![allow(unsafe_code)]
 
 use super::divide::div_rem;
 use super::product::wide;
+#[cfg(target_arch = "avr")]
+use super::words::halves;
 use crate::pid::Fix;
 use crate::regs::Register;
 
@@ -61,14 +69,17 @@ impl Unmapping {
 /// What [`Scale::map`] reads of a [`Scale`], as a `static` for the firmware: the one
 /// mapping routine then takes a pointer to it (one register pair) where each call would
 /// load eight bytes of immediates.
+///
+/// `repr(C)`: the AVR's mapping routine reads the fields at fixed offsets (0, 4, 6).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(C)]
 pub struct Mapping {
+    /// ⌈F·65536 / (b − a)⌉.
+    reciprocal: u32,
     /// a, the value of raw 0.
     min: i16,
     /// b − a.
     span: u16,
-    /// ⌈F·65536 / (b − a)⌉.
-    reciprocal: u32,
 }
 
 impl Mapping {
@@ -185,6 +196,133 @@ fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
     Fix::from_bits(bits.wrapping_add(i32::from(min) << 16))
 }
 
+/// On the AVR: one routine in assembly on the operands where the calling convention
+/// has them (the value's bits in r25..r22, the mapping's address in r21:r20, the raw
+/// value returned in r25:r24), using only registers a call may clobber, so it saves
+/// none. The clamp works on the value's high half h (the integer part, ⌊v⌋): v < a
+/// exactly when h < a (a's fraction bits are 0), and the offset's whole part is h − a,
+/// clamped to the span with the fraction cleared when h − a ≥ b − a. Then bytes 4 and 5
+/// of the 48-bit product of the offset o (f0, f1, w0, w1) and the reciprocal r (r0..r3),
+/// column by column (the bytes a_i·r_j with i + j = k) into three rotating bytes as in
+/// [`super::product::fixed`]; bytes 0..3 only carry, a carry into byte 6 is dropped
+/// (o·r < 2^48: the raw value is below 2^16). 15 products; [`map`] in Rust took 262 B.
+#[cfg(target_arch = "avr")]
+#[inline(never)]
+fn map(value: Fix, mapping: &Mapping) -> u16 {
+    let (low, high) = halves(value.to_bits() as u32);
+    let raw: u16;
+    // SAFETY: reads the 8 bytes of `*mapping` (a valid reference) and otherwise only
+    // registers: the operands and clobbers named here, r0 (the scratch register) and
+    // r1 (the zero register, which `mul` overwrites and which is cleared again before
+    // the block ends, as the AVR ABI requires); SREG is not preserved.
+    unsafe {
+        core::arch::asm!(
+            // a (min) into X, b − a (span) into r19:r18.
+            "ldd r26, Z+4",
+            "ldd r27, Z+5",
+            "ldd r18, Z+6",
+            "ldd r19, Z+7",
+            // h < a: the offset 0 (h := a, the fraction 0).
+            "cp r24, r26",
+            "cpc r25, r27",
+            "brge 0f",
+            "movw r24, r26",
+            "clr r22",
+            "clr r23",
+            // w = h − a; w ≥ b − a: the span, the fraction 0.
+            "0: sub r24, r26",
+            "sbc r25, r27",
+            "cp r24, r18",
+            "cpc r25, r19",
+            "brlo 1f",
+            "movw r24, r18",
+            "clr r22",
+            "clr r23",
+            // The reciprocal r0..r3 into r18..r21; then Z is free.
+            "1: ldd r18, Z+0",
+            "ldd r19, Z+1",
+            "ldd r20, Z+2",
+            "ldd r21, Z+3",
+            "clr r31",
+            // Column 0: f0·r0, only its carry (into r26 for column 1).
+            "mul r22, r18",
+            "mov r26, r1",
+            "clr r27",
+            "clr r30",
+            // Column 1 into r26, r27, r30: f0·r1, f1·r0.
+            "mul r22, r19",
+            "add r26, r0",
+            "adc r27, r1",
+            "adc r30, r31",
+            "mul r23, r18",
+            "add r26, r0",
+            "adc r27, r1",
+            "adc r30, r31",
+            // Column 2 into r27, r30, r26: f0·r2, f1·r1, w0·r0.
+            "clr r26",
+            "mul r22, r20",
+            "add r27, r0",
+            "adc r30, r1",
+            "adc r26, r31",
+            "mul r23, r19",
+            "add r27, r0",
+            "adc r30, r1",
+            "adc r26, r31",
+            "mul r24, r18",
+            "add r27, r0",
+            "adc r30, r1",
+            "adc r26, r31",
+            // Column 3 into r30, r26, r27: f0·r3, f1·r2, w0·r1, w1·r0.
+            "clr r27",
+            "mul r22, r21",
+            "add r30, r0",
+            "adc r26, r1",
+            "adc r27, r31",
+            "mul r23, r20",
+            "add r30, r0",
+            "adc r26, r1",
+            "adc r27, r31",
+            "mul r24, r19",
+            "add r30, r0",
+            "adc r26, r1",
+            "adc r27, r31",
+            "mul r25, r18",
+            "add r30, r0",
+            "adc r26, r1",
+            "adc r27, r31",
+            // Column 4 into r26, r27 (byte 4, the raw value's low byte): f1·r3, w0·r2,
+            // w1·r1.
+            "mul r23, r21",
+            "add r26, r0",
+            "adc r27, r1",
+            "mul r24, r20",
+            "add r26, r0",
+            "adc r27, r1",
+            "mul r25, r19",
+            "add r26, r0",
+            "adc r27, r1",
+            // Column 5 into r27 (byte 5, the high byte): w0·r3, w1·r2.
+            "mul r24, r21",
+            "add r27, r0",
+            "mul r25, r20",
+            "add r27, r0",
+            "clr r1",
+            "movw r24, r26",
+            inout("r23r22") low => _,
+            inout("r25r24") high => raw,
+            inout("Z") mapping as *const Mapping => _,
+            out("r19r18") _,
+            out("r21r20") _,
+            out("X") _,
+            options(pure, readonly, nostack),
+        );
+    }
+    raw
+}
+
+/// [`Scale::map`] of a mapping: the clamp, then ⌊offset·r/2^32⌋ by four 16×16-bit
+/// products (the host's form, and the reference the chip's routine is checked against).
+#[cfg(not(target_arch = "avr"))]
 #[inline(never)]
 fn map(value: Fix, mapping: &Mapping) -> u16 {
     let Mapping {
