@@ -531,9 +531,12 @@ impl Motor {
                 from.actual = actual;
                 raw[0] = map_by(scale(Monitor::Actual), actual);
             }
-            let zero = (error.to_bits() | integral.to_bits() | deriv.to_bits()) == 0;
-            if !(zero && from.terms_zero) {
-                from.terms_zero = zero;
+            // The three values' bits OR-ed, folded to 16 bits: 0 exactly when all are 0.
+            // Unless they and the last mapped ones are all 0, map them.
+            let bits = (error.to_bits() | integral.to_bits() | deriv.to_bits()) as u32;
+            let terms = bits as u16 | (bits >> 16) as u16;
+            if terms | from.terms != 0 {
+                from.terms = terms;
                 raw[1] = map_by(scale(Monitor::Error), error);
                 raw[2] = map_by(scale(Monitor::Integral), integral);
                 raw[3] = map_by(scale(Monitor::Deriv), deriv);
@@ -590,8 +593,8 @@ impl Motor {
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 struct MappedFrom {
     actual: Fix,
-    /// ERROR, ERRORINTEGRAL and ERRORDERIV were all 0 (as at rest).
-    terms_zero: bool,
+    /// 0 exactly when ERROR, ERRORINTEGRAL and ERRORDERIV were all 0 (as at rest).
+    terms: u16,
     interval_ms: u16,
     /// CONTROL's duty (not mapped in exception).
     duty: u8,
@@ -601,7 +604,7 @@ impl MappedFrom {
     /// What [`Monitors::POWER_ON`]'s raw values are the mapping of: every value 0.
     const POWER_ON: MappedFrom = MappedFrom {
         actual: Fix::ZERO,
-        terms_zero: true,
+        terms: 0,
         interval_ms: 0,
         duty: 0,
     };
@@ -709,6 +712,50 @@ mod tests {
             assert_eq!(m.take_fresh(), want, "update {k}, gap {gap}");
         }
         assert!(due > 10_000 && not_due > 5_000, "{due} {not_due}");
+    }
+
+    #[test]
+    fn terms_remap_whenever_any_bit_of_them_or_of_the_last_is_set() {
+        // Values with bits in one half only, both halves, and none, in every order: the
+        // raw ERROR and ERRORDERIV after each due record are those values' mapping.
+        let bits = [
+            0,
+            1,
+            0,
+            0x1_0000,
+            0,
+            -1,
+            i32::MIN,
+            0,
+            0,
+            0x8000,
+            0x7fff_0000,
+            0,
+        ];
+        let mut m = Motor::new(Kind::Drive);
+        m.start(0);
+        let scale = |monitor| Kind::Drive.monitor_scale(monitor);
+        let (mut mapped_nonzero, mut now_us) = (0, 0);
+        for (k, &e) in bits.iter().enumerate() {
+            for (error, deriv) in [(e, 0), (0, e), (e, e)] {
+                // 10 ms on: every record maps.
+                now_us += 10_000;
+                let cx = UpdateContext {
+                    now_us,
+                    now_ms: now_us / 1000,
+                    in_exception: false,
+                    fault_time_ms: 500,
+                };
+                let (error, deriv) = (Fix::from_bits(error), Fix::from_bits(deriv));
+                m.record(Kind::Drive, error, deriv, 0, &cx);
+                assert!(m.take_fresh(), "{k}");
+                let raw = m.monitors().raw;
+                assert_eq!(raw[1], map(scale(Monitor::Error), error), "{k} {error}");
+                assert_eq!(raw[3], map(scale(Monitor::Deriv), deriv), "{k} {deriv}");
+                mapped_nonzero += usize::from(raw[1] != MID || raw[3] != MID);
+            }
+        }
+        assert!(mapped_nonzero > 12, "{mapped_nonzero}");
     }
 
     #[test]
@@ -860,7 +907,7 @@ mod tests {
             let scale = |monitor| kind.monitor_scale(monitor);
             let zero_terms = [Monitor::Error, Monitor::Integral, Monitor::Deriv]
                 .map(|monitor| map(scale(monitor), Fix::ZERO));
-            assert!(from.terms_zero);
+            assert_eq!(from.terms, 0);
             assert_eq!(
                 [
                     map(scale(Monitor::Actual), from.actual),
