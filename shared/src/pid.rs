@@ -329,14 +329,22 @@ fn sum_terms(gains: &Gains, error: Fix, integral: Fix, deriv: Fix) -> Fix {
     // update. The I term is always computed (a zero gain or I returns at once inside
     // `mul`): its test would cost more flash than the drive's skip saves.
     let mut sum = Fix::ZERO;
-    if gains.p != Fix::ZERO {
+    if nonzero(gains.p) {
         sum = mul(gains.p, error);
     }
     sum = sum.add_sat(mul(gains.i, integral));
-    if gains.d != Fix::ZERO {
+    if nonzero(gains.d) {
         sum = sum.add_sat(mul(gains.d, deriv));
     }
     sum
+}
+
+/// Whether `x` is not 0, by its bits folded to 16 (lo | hi): the AVR's 32-bit test
+/// against 0 materialises a flag, this is two ORs and one 16-bit test.
+#[inline(always)]
+fn nonzero(x: Fix) -> bool {
+    let bits = x.to_bits() as u32;
+    (bits as u16 | (bits >> 16) as u16) != 0
 }
 
 fn step(error: Fix, integral: Fix, deriv: Fix, control: Fix) -> Step {
@@ -355,6 +363,28 @@ mod tests {
 
     fn fix(v: f64) -> Fix {
         Fix::from_num(v)
+    }
+
+    #[test]
+    fn nonzero_is_the_bits_not_0() {
+        let edges = [
+            0,
+            1,
+            -1,
+            0xffff,
+            0x1_0000,
+            0x8000,
+            i32::MIN,
+            i32::MAX,
+            0x7fff_0000,
+        ];
+        let sweep = (i32::MIN..=i32::MAX).step_by(65_521);
+        let mut zero = 0;
+        for bits in edges.into_iter().chain(sweep) {
+            assert_eq!(nonzero(Fix::from_bits(bits)), bits != 0, "{bits:#x}");
+            zero += usize::from(bits == 0);
+        }
+        assert_eq!(zero, 1);
     }
 
     #[test]

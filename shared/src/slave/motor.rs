@@ -487,7 +487,7 @@ impl Motor {
     /// monitoring values, is all that is left of it.
     #[inline(always)]
     pub fn holds(&self, actual: Fix, cx: &UpdateContext) -> bool {
-        self.at_rest && !cx.in_exception && self.pid.last_actual() == actual
+        self.at_rest && !cx.in_exception && !differ(self.pid.last_actual(), actual)
     }
 
     /// An update that [`Motor::holds`]: only the interval and the monitoring values (its
@@ -608,6 +608,15 @@ impl MappedFrom {
         interval_ms: 0,
         duty: 0,
     };
+}
+
+/// Whether `a` ≠ `b`, by their bits' difference folded to 16 bits (lo | hi of a ^ b):
+/// the AVR's 32-bit comparison materialises a flag, this is four XORs, two ORs and one
+/// 16-bit test.
+#[inline(always)]
+fn differ(a: Fix, b: Fix) -> bool {
+    let bits = (a.to_bits() ^ b.to_bits()) as u32;
+    (bits as u16 | (bits >> 16) as u16) != 0
 }
 
 /// [`map`] by a monitoring register's [`Mapping`].
@@ -756,6 +765,30 @@ mod tests {
             }
         }
         assert!(mapped_nonzero > 12, "{mapped_nonzero}");
+    }
+
+    #[test]
+    fn differ_is_the_bits_not_equal() {
+        let values = [
+            0,
+            1,
+            -1,
+            0xffff,
+            0x1_0000,
+            0x1_0001,
+            i32::MIN,
+            i32::MAX,
+            0x7fff_0000,
+        ];
+        let mut equal = 0;
+        for a in values {
+            for b in values {
+                let (fa, fb) = (Fix::from_bits(a), Fix::from_bits(b));
+                assert_eq!(differ(fa, fb), a != b, "{a:#x} {b:#x}");
+                equal += usize::from(a == b);
+            }
+        }
+        assert_eq!(equal, values.len());
     }
 
     #[test]
