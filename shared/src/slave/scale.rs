@@ -44,25 +44,32 @@ pub struct Scale {
     reciprocal: u32,
 }
 
-/// What [`Scale::unmap`] reads of a [`Scale`], in 5 bytes on the AVR: the entry type
+/// What [`Scale::unmap`] reads of a [`Scale`], in 4 bytes on the AVR: the entry type
 /// of a table of scales chosen at run time, which costs less code than choosing the
-/// constants by a `match` (each arm loads its own immediates).
+/// constants by a `match` (each arm loads its own immediates); 4 bytes, so an entry's
+/// offset is two shifts, not a product.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Unmapping {
     /// a, the value of raw 0.
     min: i16,
-    /// b − a.
+    /// b − a (below 2^15: [`Scale::of`] checks), with [`ONE_BYTE`] set for a one-byte
+    /// register (F = 254; else 65534).
     span: u16,
-    /// F's high byte: F is 65534 (0xff) or 254 (0x00), and its low byte always 0xfe.
-    full_high: u8,
 }
+
+/// [`Unmapping`]'s mark of a one-byte register in its span's free top bit.
+const ONE_BYTE: u16 = 0x8000;
 
 impl Unmapping {
     /// [`Scale::unmap`] of the scale this came from.
     #[inline(always)]
     pub fn unmap(self, raw: u16) -> Fix {
-        let full = u16::from_le_bytes([0xfe, self.full_high]);
-        unmap(raw, self.min, self.span, full)
+        let full = if self.span & ONE_BYTE != 0 {
+            254
+        } else {
+            65_534
+        };
+        unmap(raw, self.min, self.span & !ONE_BYTE, full)
     }
 }
 
@@ -116,8 +123,7 @@ impl Scale {
     pub const fn unmapping(self) -> Unmapping {
         Unmapping {
             min: self.min,
-            span: self.span,
-            full_high: (self.full >> 8) as u8,
+            span: self.span | if self.full == 254 { ONE_BYTE } else { 0 },
         }
     }
 
@@ -132,7 +138,7 @@ impl Scale {
         let min = range.min as i32;
         let max = range.max as i32;
         assert!(min as f32 == range.min && max as f32 == range.max && min < max);
-        assert!(min >= -32767 && max <= 32767);
+        assert!(min >= -32767 && max <= 32767 && max - min < ONE_BYTE as i32);
         let full: u32 = if reg.size == 1 { 254 } else { 65534 };
         let span = (max - min) as u32;
         let reciprocal = ((full as u64) << 16).div_ceil(span as u64);
