@@ -22,7 +22,8 @@ use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
 
 /// Op 8's scales, by index: the monitoring ranges (±4000, ±1000, ±200, ±255, 0..1000),
-/// CHASSIS, and reciprocals of other widths (0..1 near 2^32, 0..10, a one-byte 0..255).
+/// CHASSIS (0..1024), and one-byte ranges (±120, 0..50, 0..255): reciprocals from 16 to
+/// 24 bits (±200's 10,737,419 is the largest a mapping may have).
 static MAPPINGS: [Mapping; 9] = [
     Scale::of(&DS, id::REGDS_DRIVE_ACTUALSPEED).mapping(),
     Scale::of(&DS, id::REGDS_DRIVE_ERROR).mapping(),
@@ -30,8 +31,8 @@ static MAPPINGS: [Mapping; 9] = [
     Scale::of(&DS, id::REGDS_DRIVE_CONTROL).mapping(),
     Scale::of(&DS, id::REGDS_DRIVE_INTERVALCTRL).mapping(),
     Scale::of(&DS, id::REGDS_CHASSIS).mapping(),
-    Scale::of(&DS, id::REGDS_DRIVE_INTEGRALDECAY).mapping(),
-    Scale::of(&DS, id::REGDS_DRIVE_PGAIN).mapping(),
+    Scale::of(&DS, id::REGDS_STEER_CALIBMIN).mapping(),
+    Scale::of(&DS, id::REGDS_DRIVE_DEADZONE).mapping(),
     Scale::of(&DS, id::REGDS_DRIVE_STALLCHECK).mapping(),
 ];
 

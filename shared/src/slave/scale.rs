@@ -12,7 +12,7 @@
 //!   every raw value (tested exhaustively).
 //! - [`Scale::map`] (value → raw, clamped) runs for every monitoring value, so it uses a
 //!   reciprocal computed at compile time and four 16×16-bit products; on the AVR one
-//!   routine in assembly (15 byte products, 164 B where the Rust took 262 B), checked on
+//!   routine in assembly (12 byte products, 144 B where the Rust took 262 B), checked on
 //!   the chip against the host's form (`slave_maths`).
 //!
 //! Ranges with span 65535 would overflow `raw·span`; the tables have none (the widest
@@ -75,14 +75,21 @@ impl Unmapping {
 
 /// What [`Scale::map`] reads of a [`Scale`], as a `static` for the firmware: the one
 /// mapping routine then takes a pointer to it (one register pair) where each call would
-/// load eight bytes of immediates.
+/// load seven bytes of immediates.
 ///
-/// `repr(C)`: the AVR's mapping routine reads the fields at fixed offsets (0, 4, 6).
+/// Only for a scale whose reciprocal is below 2^24 (a two-byte register's range
+/// spanning 256 or more, or any one-byte register's: every monitoring register and
+/// CHASSIS), held in 3 bytes: [`Scale::mapping`] fails to compile otherwise, and the
+/// AVR's routine multiplies by three bytes, not four.
+///
+/// `repr(C)`: the AVR's mapping routine reads the fields at fixed offsets (0, 2, 3, 5).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 #[repr(C)]
 pub struct Mapping {
-    /// ⌈F·65536 / (b − a)⌉.
-    reciprocal: u32,
+    /// ⌈F·65536 / (b − a)⌉'s low 16 bits.
+    reciprocal_low: u16,
+    /// ⌈F·65536 / (b − a)⌉'s top 8 bits (bits 16..23).
+    reciprocal_high: u8,
     /// a, the value of raw 0.
     min: i16,
     /// b − a.
@@ -104,12 +111,18 @@ impl Mapping {
 }
 
 impl Scale {
-    /// The part of the scale [`Scale::map`] uses, for a `static`.
+    /// The part of the scale [`Scale::map`] uses, for a `static`. Panics (fails to
+    /// compile, in a `static`) unless the reciprocal is below 2^24 (see [`Mapping`]).
     pub const fn mapping(self) -> Mapping {
+        assert!(
+            self.reciprocal < 1 << 24,
+            "a reciprocal of more than 3 bytes"
+        );
         Mapping {
+            reciprocal_low: self.reciprocal as u16,
+            reciprocal_high: (self.reciprocal >> 16) as u8,
             min: self.min,
             span: self.span,
-            reciprocal: self.reciprocal,
         }
     }
 
@@ -177,7 +190,7 @@ impl Scale {
     /// number (0 ↔ 0x7fff in symmetric ranges).
     #[inline(always)]
     pub fn map(self, value: Fix) -> u16 {
-        map(value, &self.mapping())
+        map_wide(value, self.min, self.span, self.reciprocal)
     }
 
     /// The raw value for an integer (e.g. an ADC reading), as [`Scale::map`].
@@ -208,10 +221,11 @@ fn unmap(raw: u16, min: i16, span: u16, full: u16) -> Fix {
 /// none. The clamp works on the value's high half h (the integer part, ⌊v⌋): v < a
 /// exactly when h < a (a's fraction bits are 0), and the offset's whole part is h − a,
 /// clamped to the span with the fraction cleared when h − a ≥ b − a. Then bytes 4 and 5
-/// of the 48-bit product of the offset o (f0, f1, w0, w1) and the reciprocal r (r0..r3),
-/// column by column (the bytes a_i·r_j with i + j = k) into three rotating bytes as in
-/// [`super::product::fixed`]; bytes 0..3 only carry, a carry into byte 6 is dropped
-/// (o·r < 2^48: the raw value is below 2^16). 15 products; [`map`] in Rust took 262 B.
+/// of the 48-bit product of the offset o (f0, f1, w0, w1) and the 3-byte reciprocal r
+/// (r0..r2), column by column (the bytes o_i·r_j with i + j = k) into three rotating
+/// bytes as in [`super::product::fixed`]; bytes 0..3 only carry, a carry into byte 6 is
+/// dropped (o·r < 2^48: the raw value is below 2^16). 12 products; [`map`] in Rust took
+/// 262 B.
 #[cfg(target_arch = "avr")]
 #[inline(never)]
 fn map(value: Fix, mapping: &Mapping) -> u16 {
@@ -224,10 +238,10 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
     unsafe {
         core::arch::asm!(
             // a (min) into X, b − a (span) into r19:r18.
-            "ldd r26, Z+4",
-            "ldd r27, Z+5",
-            "ldd r18, Z+6",
-            "ldd r19, Z+7",
+            "ldd r26, Z+3",
+            "ldd r27, Z+4",
+            "ldd r18, Z+5",
+            "ldd r19, Z+6",
             // h < a: the offset 0 (h := a, the fraction 0).
             "cp r24, r26",
             "cpc r25, r27",
@@ -244,11 +258,10 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
             "movw r24, r18",
             "clr r22",
             "clr r23",
-            // The reciprocal r0..r3 into r18..r21; then Z is free.
+            // The reciprocal r0..r2 into r18..r20; then Z is free.
             "1: ldd r18, Z+0",
             "ldd r19, Z+1",
             "ldd r20, Z+2",
-            "ldd r21, Z+3",
             "clr r31",
             // Column 0: f0·r0, only its carry (into r26 for column 1).
             "mul r22, r18",
@@ -278,12 +291,8 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
             "add r27, r0",
             "adc r30, r1",
             "adc r26, r31",
-            // Column 3 into r30, r26, r27: f0·r3, f1·r2, w0·r1, w1·r0.
+            // Column 3 into r30, r26, r27: f1·r2, w0·r1, w1·r0.
             "clr r27",
-            "mul r22, r21",
-            "add r30, r0",
-            "adc r26, r1",
-            "adc r27, r31",
             "mul r23, r20",
             "add r30, r0",
             "adc r26, r1",
@@ -296,20 +305,14 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
             "add r30, r0",
             "adc r26, r1",
             "adc r27, r31",
-            // Column 4 into r26, r27 (byte 4, the raw value's low byte): f1·r3, w0·r2,
-            // w1·r1.
-            "mul r23, r21",
-            "add r26, r0",
-            "adc r27, r1",
+            // Column 4 into r26, r27 (byte 4, the raw value's low byte): w0·r2, w1·r1.
             "mul r24, r20",
             "add r26, r0",
             "adc r27, r1",
             "mul r25, r19",
             "add r26, r0",
             "adc r27, r1",
-            // Column 5 into r27 (byte 5, the high byte): w0·r3, w1·r2.
-            "mul r24, r21",
-            "add r27, r0",
+            // Column 5 into r27 (byte 5, the high byte): w1·r2.
             "mul r25, r20",
             "add r27, r0",
             "clr r1",
@@ -318,7 +321,7 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
             inout("r25r24") high => raw,
             inout("Z") mapping as *const Mapping => _,
             out("r19r18") _,
-            out("r21r20") _,
+            out("r20") _,
             out("X") _,
             options(pure, readonly, nostack),
         );
@@ -326,16 +329,19 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
     raw
 }
 
-/// [`Scale::map`] of a mapping: the clamp, then ⌊offset·r/2^32⌋ by four 16×16-bit
-/// products (the host's form, and the reference the chip's routine is checked against).
+/// [`Mapping::map`] on the host: [`map_wide`], the reference the chip's routine is
+/// checked against.
 #[cfg(not(target_arch = "avr"))]
 #[inline(never)]
 fn map(value: Fix, mapping: &Mapping) -> u16 {
-    let Mapping {
-        min,
-        span,
-        reciprocal,
-    } = *mapping;
+    let reciprocal = u32::from(mapping.reciprocal_high) << 16 | u32::from(mapping.reciprocal_low);
+    map_wide(value, mapping.min, mapping.span, reciprocal)
+}
+
+/// [`Scale::map`] of any scale: the clamp, then ⌊offset·r/2^32⌋ by four 16×16-bit
+/// products. (Out of line: on the AVR only a scale that has no [`Mapping`] would use it.)
+#[inline(never)]
+fn map_wide(value: Fix, min: i16, span: u16, reciprocal: u32) -> u16 {
     // |a|, |b| ≤ 32767, so a and b fit an I16F16's bits.
     let min = i32::from(min) << 16;
     let max = min.wrapping_add(i32::from(span) << 16);
@@ -352,4 +358,43 @@ fn map(value: Fix, mapping: &Mapping) -> u16 {
         .wrapping_add(wide(fraction, r_high))
         .wrapping_add(wide(fraction, r_low) >> 16);
     u16::try_from(scaled >> 16).unwrap_or(u16::MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::regs::{id, DS};
+
+    #[test]
+    fn mappings_hold_reciprocals_of_3_bytes_and_map_as_their_scales() {
+        let ids = [
+            id::REGDS_DRIVE_ACTUALSPEED,
+            id::REGDS_STEER_ACTUALPOS,
+            id::REGDS_DRIVE_CONTROL,
+            id::REGDS_CHASSIS,
+            id::REGDS_STEER_CALIBMIN,
+        ];
+        for id in ids {
+            let scale = Scale::of(&DS, id);
+            let mapping = scale.mapping();
+            let r = u32::from(mapping.reciprocal_high) << 16 | u32::from(mapping.reciprocal_low);
+            assert_eq!(r, scale.reciprocal, "{id}");
+            for bits in (i32::MIN..=i32::MAX)
+                .step_by(999_983)
+                .chain([0, -1, 1 << 16])
+            {
+                let v = Fix::from_bits(bits);
+                assert_eq!(mapping.map(v), scale.map(v), "{id} {bits:#x}");
+            }
+        }
+        // ±200's is the largest a mapped register has: 24 bits.
+        assert!(Scale::of(&DS, id::REGDS_STEER_ACTUALPOS).reciprocal >= 1 << 23);
+    }
+
+    #[test]
+    #[should_panic(expected = "a reciprocal of more than 3 bytes")]
+    fn a_scale_spanning_less_than_256_has_no_mapping() {
+        // INTEGRALDECAY spans 0..1: its reciprocal needs 32 bits.
+        let _ = Scale::of(&DS, id::REGDS_DRIVE_INTEGRALDECAY).mapping();
+    }
 }
