@@ -235,6 +235,10 @@ const NO_READING: u16 = u16::MAX;
 /// Raw 0 in a symmetric range.
 const MID: u16 = 0x7fff;
 
+/// [`Motor::record`]'s control in exception: no duty (above any), its low byte the duty
+/// applied then, 0.
+const NO_CONTROL: u16 = 0xff00;
+
 impl Monitors {
     /// Before the first update: every value 0.
     pub const POWER_ON: Monitors = Monitors {
@@ -460,12 +464,14 @@ impl Motor {
         // duty's conversion twice (54 B).
         self.at_rest = position & (!cx.in_exception && step.rests());
         self.demand = step.duty;
-        let duty = if cx.in_exception {
-            0
+        let control = if cx.in_exception {
+            NO_CONTROL
         } else {
-            step.duty.magnitude
+            u16::from(step.duty.magnitude)
         };
-        self.record(kind, step.error, step.deriv, duty, cx);
+        // The duty applied: 0 in exception (NO_CONTROL's low byte).
+        let duty = control as u8;
+        self.record(kind, step.error, step.deriv, control, cx);
         let motion = match kind {
             Kind::Drive => Motion::Speed(actual),
             Kind::Position => Motion::Angle(actual),
@@ -504,12 +510,17 @@ impl Motor {
     /// [`Motor::hold`]. The measurement and the integral are the controller's own after
     /// the update ([`Pid::last_actual`], [`Pid::integral`]: an update that holds has
     /// just checked the one and rests with the other 0), so the step's four values
-    /// that do change pass in registers, not through memory.
+    /// that do change pass in registers, not through memory. `control` is the duty
+    /// applied, or [`NO_CONTROL`] in exception (CONTROL keeps its value): one argument
+    /// where a duty and the exception flag took two register pairs, so every argument
+    /// fits the registers the AVR passes them in (48 / 6 B less than with the context's
+    /// values passed on the stack).
     #[inline(never)]
-    fn record(&mut self, kind: Kind, error: Fix, deriv: Fix, duty: u8, cx: &UpdateContext) {
-        let gap = cx.now_us.wrapping_sub(self.last_update_us);
+    fn record(&mut self, kind: Kind, error: Fix, deriv: Fix, control: u16, cx: &UpdateContext) {
+        let now_us = cx.now_us;
+        let gap = now_us.wrapping_sub(self.last_update_us);
         let interval_ms = interval_ms(gap);
-        self.last_update_us = cx.now_us;
+        self.last_update_us = now_us;
         self.monitors.interval_ms = interval_ms;
         // Mapping six values costs more than the update itself on the AVR, so the
         // monitoring registers are refreshed from every update at most every 10 ms: the
@@ -545,9 +556,12 @@ impl Motor {
                 from.interval_ms = interval_ms;
                 raw[5] = INTERVAL_MAP.map_int(interval_ms);
             }
-            if !cx.in_exception && from.duty != duty {
-                from.duty = duty;
-                raw[4] = CONTROL_MAP.map_int(u16::from(duty));
+            // A duty (not NO_CONTROL) that changed.
+            if let Ok(duty) = u8::try_from(control) {
+                if from.duty != duty {
+                    from.duty = duty;
+                    raw[4] = CONTROL_MAP.map_int(control);
+                }
             }
         }
     }
@@ -789,6 +803,37 @@ mod tests {
             }
         }
         assert_eq!(equal, values.len());
+    }
+
+    #[test]
+    fn control_keeps_the_last_applied_duty_in_exception() {
+        for kind in [Kind::Drive, Kind::Position] {
+            let mut m = Motor::new(kind);
+            m.start(0);
+            m.set_param(kind, Param::P, 0x4000);
+            m.params.required = Fix::from_num(30);
+            let cx = |k: u32, in_exception| UpdateContext {
+                now_us: 20_000 * k,
+                now_ms: 20 * k,
+                in_exception,
+                fault_time_ms: 500,
+            };
+            m.update(Fix::ZERO, &cx(1, false));
+            let duty = m.demand().magnitude;
+            assert!(duty > 0, "{kind:?}");
+            let applied = CONTROL.map_int(u16::from(duty));
+            assert_eq!(m.monitors().raw[4], applied, "{kind:?}");
+            // Mapped again in exception (the interval changed): CONTROL stays.
+            for k in 2..5 {
+                m.update(Fix::from_num(k), &cx(k * k, true));
+                assert!(m.take_fresh());
+                assert_eq!(m.monitors().raw[4], applied, "{kind:?} {k}");
+            }
+            // Out of it: the duty of the update (0 or not) again.
+            m.update(Fix::ZERO, &cx(30, false));
+            let now = CONTROL.map_int(u16::from(m.demand().magnitude));
+            assert_eq!(m.monitors().raw[4], now, "{kind:?}");
+        }
     }
 
     #[test]
