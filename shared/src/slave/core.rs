@@ -286,10 +286,7 @@ impl<B: Board> Core<B> {
 
     /// Phase 2: one control tick at `now_us` (a wrapping µs clock).
     pub fn step(&mut self, now_us: u32, inputs: &Inputs) -> Outputs {
-        let first = match self.variant() {
-            Variant::LiftLift => self.clock.advance_in_line(now_us),
-            Variant::DriveSteer => self.clock.advance(now_us),
-        };
+        let first = self.clock.advance(now_us);
         let now_ms = self.clock.ms();
         let Some(address) = self.address else {
             return Outputs::stopped(leds::bad_address(now_ms), Watchdog::Feed);
