@@ -147,14 +147,14 @@ macro_rules! firmware {
                 *cx.local.eeprom = None;
             }
             // One lock for everything the priority-2 tasks fill.
-            let (adc, changes, addressed) = cx
+            let (adc, written, addressed) = cx
                 .shared
                 .regs
-                .lock(|r| (r.adc().take(), r.take_changes(), r.take_addressed()));
+                .lock(|r| (r.adc().take(), r.take_written(), r.take_addressed()));
             let inputs = Inputs { edges, adc };
-            if let Some(mut changes) = changes {
-                while let Some(reg) = changes.take() {
-                    let raw = cx.shared.regs.lock(|r| r.take_value(reg));
+            if written {
+                // One register a lock, lowest first, until none is marked.
+                while let Some((reg, raw)) = cx.shared.regs.lock(|r| r.take_change()) {
                     core.apply(reg, raw);
                 }
             }
