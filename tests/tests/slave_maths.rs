@@ -227,3 +227,32 @@ fn magnitude_dead_zone_and_clamp_match_the_host() {
     let checked = check_pairs(7, 300, clamp);
     assert!(checked > 250, "only {checked} pairs with a cap ≥ 0");
 }
+
+#[test]
+fn current_filter_step_matches_the_formula_on_every_input() {
+    // Every sample byte c and every raw value f (2^24 steps): the chip's results, in
+    // order, hashed and summed there, against the host's formula. The hash changes with
+    // any single wrong result (each step of it is a bijection).
+    let mut avr = fixture();
+    let mut reached = [0usize; 2];
+    for c in 0..=u8::MAX {
+        avr.uart_send(&[8, c, 0, 0, 0, 0, 0, 0, 0]);
+        let reply = avr.uart_read_exact(8, 30_000_000).unwrap();
+        let word =
+            |i: usize| u32::from_le_bytes([reply[i], reply[i + 1], reply[i + 2], reply[i + 3]]);
+        let (mut hash, mut sum) = (0u32, 0u32);
+        let q = u32::from(c) << 8;
+        for f in 0..=u32::from(u16::MAX) {
+            let rising = q > f;
+            let p = if rising { 25 } else { 2 };
+            let want = (256 - p) * f / 256 + q * p / 256;
+            hash = hash.rotate_left(5) ^ want;
+            sum = sum.wrapping_add(want);
+            reached[usize::from(rising)] += 1;
+        }
+        assert_eq!((word(0), word(4)), (hash, sum), "sample {c}: hash, sum");
+    }
+    // Both branches, each on more than a quarter of the inputs.
+    assert_eq!(reached[0] + reached[1], 1 << 24);
+    assert!(reached[0] > 1 << 22 && reached[1] > 1 << 22, "{reached:?}");
+}

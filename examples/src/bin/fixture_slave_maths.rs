@@ -8,14 +8,32 @@
 //! - op 3 / 4: `pid::sum::add(a, b)` / `sub(a, b)`: saturating sum / difference;
 //! - op 5: `pid::sum::magnitude(a)`;
 //! - op 6: `pid::sum::dead_zone(a, b)`;
-//! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0).
+//! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0);
+//! - op 8: the current filter's step (`current::CurrentFilter::push`) of the sample
+//!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
+//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
 use shared::pid::sum;
+use shared::slave::current::CurrentFilter;
 use shared::slave::{divide::div_rem, product};
+
+/// The current filter's step from every raw value with sample `c`: a hash of the
+/// 65,536 results in order, and their wrapping sum.
+fn filter_sweep(c: u8) -> (u32, u32) {
+    let (mut hash, mut sum) = (0u32, 0u32);
+    for f in 0..=u16::MAX {
+        let mut filter = CurrentFilter::from_raw(black_box(f));
+        filter.push(black_box(u16::from(c)));
+        let got = filter.raw();
+        hash = hash.rotate_left(5) ^ u32::from(got);
+        sum = sum.wrapping_add(u32::from(got));
+    }
+    (hash, sum)
+}
 
 #[avr_device::entry]
 fn main() -> ! {
@@ -37,6 +55,7 @@ fn main() -> ! {
             5 => (sum::magnitude(sa), 0),
             6 => (sum::dead_zone(sa, b) as u32, 0),
             7 if sb >= 0 => (sum::clamp(sa, sb) as u32, 0),
+            8 => filter_sweep(a as u8),
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);
