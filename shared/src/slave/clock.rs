@@ -2,12 +2,12 @@
 //! between ticks out.
 
 /// Time kept from the µs clock the firmware passes to each tick.
-#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Clock {
     started: bool,
     last_us: u32,
-    /// µs past the last whole ms, < 1000.
-    residual_us: u16,
+    /// µs to the next whole ms, 1..=1000 (1000 less the µs past the last one).
+    to_next_us: u16,
     ms: u32,
     interval_us: u32,
 }
@@ -18,7 +18,7 @@ impl Clock {
         Clock {
             started: false,
             last_us: 0,
-            residual_us: 0,
+            to_next_us: 1000,
             ms: 0,
             interval_us: 0,
         }
@@ -43,19 +43,18 @@ impl Clock {
         };
         self.started = true;
         self.last_us = now_us;
+        // Each whole ms reached, one pass: the first after `to_next_us`, the others
+        // 1000 µs apart.
         let mut ms = self.ms;
-        while elapsed >= 1000 {
-            elapsed = opaque(elapsed - 1000);
+        let mut to_next = self.to_next_us;
+        while elapsed >= u32::from(to_next) {
+            elapsed = opaque(elapsed - u32::from(to_next));
+            to_next = 1000;
             ms = ms.wrapping_add(1);
         }
-        // elapsed < 1000 and residual < 1000: total < 2000, in 16 bits.
-        let mut total = self.residual_us + elapsed as u16;
-        if total >= 1000 {
-            total -= 1000;
-            ms = ms.wrapping_add(1);
-        }
+        // elapsed < to_next ≤ 1000.
+        self.to_next_us = to_next - elapsed as u16;
         self.ms = ms;
-        self.residual_us = total;
         first
     }
 
@@ -67,6 +66,13 @@ impl Clock {
     /// µs between the last two ticks.
     pub fn interval_us(&self) -> u32 {
         self.interval_us
+    }
+}
+
+impl Default for Clock {
+    /// [`Clock::new`].
+    fn default() -> Clock {
+        Clock::new()
     }
 }
 
@@ -150,13 +156,19 @@ mod tests {
     }
 
     #[test]
+    fn the_default_clock_is_a_new_one() {
+        assert_eq!(Clock::default(), Clock::new());
+        assert_eq!(Clock::new().to_next_us, 1000);
+    }
+
+    #[test]
     fn the_longest_gap_after_a_residual_counts_exactly() {
         // 999 µs, then a gap of 2^32 − 1 µs: 4,294,968,294 µs in all.
         let mut clock = Clock::new();
         assert!(clock.advance(999));
-        assert_eq!((clock.ms(), clock.residual_us), (0, 999));
+        assert_eq!((clock.ms(), clock.to_next_us), (0, 1));
         assert!(!clock.advance(998));
         assert_eq!(clock.interval_us(), u32::MAX);
-        assert_eq!((clock.ms(), clock.residual_us), (4_294_968, 294));
+        assert_eq!((clock.ms(), clock.to_next_us), (4_294_968, 706));
     }
 }
