@@ -9,7 +9,8 @@ pub struct Clock {
     /// µs to the next whole ms, 1..=1000 (1000 less the µs past the last one).
     to_next_us: u16,
     ms: u32,
-    interval_us: u32,
+    /// µs between the last two ticks, mod 2^16 (what REG_INTERVALI2C shows).
+    interval_us: u16,
 }
 
 impl Clock {
@@ -38,7 +39,7 @@ impl Clock {
             now_us
         } else {
             let elapsed = now_us.wrapping_sub(self.last_us);
-            self.interval_us = elapsed;
+            self.interval_us = elapsed as u16;
             elapsed
         };
         self.started = true;
@@ -63,8 +64,8 @@ impl Clock {
         self.ms
     }
 
-    /// µs between the last two ticks.
-    pub fn interval_us(&self) -> u32 {
+    /// µs between the last two ticks, mod 2^16 (REG_INTERVALI2C).
+    pub fn interval_us(&self) -> u16 {
         self.interval_us
     }
 }
@@ -149,7 +150,7 @@ mod tests {
                     wide.total_us / 1000 % (1 << 32),
                     "{run}"
                 );
-                assert_eq!(clock.interval_us(), wide.interval_us, "{run} {step}");
+                assert_eq!(clock.interval_us(), wide.interval_us as u16, "{run} {step}");
             }
         }
         assert!(long > 10_000, "{long} long gaps");
@@ -168,7 +169,7 @@ mod tests {
         assert!(clock.advance(999));
         assert_eq!((clock.ms(), clock.to_next_us), (0, 1));
         assert!(!clock.advance(998));
-        assert_eq!(clock.interval_us(), u32::MAX);
+        assert_eq!(clock.interval_us(), u16::MAX);
         assert_eq!((clock.ms(), clock.to_next_us), (4_294_968, 706));
     }
 }

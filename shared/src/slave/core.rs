@@ -352,7 +352,7 @@ impl<B: Board> Core<B> {
             return;
         }
         regs.set(id::REG_TIMER, self.clock.ms() as u16);
-        regs.set(id::REG_INTERVALI2C, self.clock.interval_us() as u16);
+        regs.set(id::REG_INTERVALI2C, self.clock.interval_us());
         let exception = if self.state.in_exception() { 1 } else { 0 };
         regs.set(id::REG_STATUS, self.variant().status_bit() | exception);
         regs.set(id::REG_EXCEPTIONDATA, self.state.data());
