@@ -3,7 +3,8 @@
 //! division at its edges and on pseudo-random operands, the 16×16→32 product, and the
 //! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
 //! on every pair of corner values and on pseudo-random operands of every width, each
-//! checked against the host's own arithmetic written out here. The host builds of these
+//! checked against the host's own arithmetic written out here; the current filter's
+//! step on every input and the clock's count of whole ms against the host builds. The host builds of these
 //! functions are plain Rust, so only this test shows the assembly right.
 
 use harness::Avr;
@@ -255,4 +256,44 @@ fn current_filter_step_matches_the_formula_on_every_input() {
     // Both branches, each on more than a quarter of the inputs.
     assert_eq!(reached[0] + reached[1], 1 << 24);
     assert!(reached[0] > 1 << 22 && reached[1] > 1 << 22, "{reached:?}");
+}
+
+#[test]
+fn clock_count_of_whole_ms_matches_the_host() {
+    // Gaps at and around each distance to the next ms, around whole ms and 2^16, a
+    // pseudo-random set below 2^22 µs and the longest; ms counts at 0, at a 16-bit
+    // carry and at the 32-bit wrap.
+    use shared::slave::clock::count_ms;
+    let mut avr = fixture();
+    let mut cases = 0;
+    let mut wrapped = 0;
+    for to_next in [1u16, 2, 500, 999, 1000] {
+        let t = u32::from(to_next);
+        let mut gaps = vec![0, 1, t - 1, t, t + 1, 999, 1000, 1001, 1999, 2000, 2001];
+        gaps.extend([65_535, 65_536, 123_456, (1 << 20) + 7]);
+        gaps.extend(operands(12).map(|x| x >> 10));
+        for gap in gaps {
+            for high in [0u32, 1, 0x1234, 0xffff] {
+                let ms = high * 0x1_0001;
+                let (want_next, want_ms) = count_ms(gap, to_next, ms);
+                let got = request(&mut avr, 9, gap, high << 16 | t);
+                assert_eq!(
+                    got,
+                    (u32::from(want_next), want_ms),
+                    "{gap} µs, {to_next}, {ms}"
+                );
+                cases += 1;
+                wrapped += usize::from(want_ms < ms);
+            }
+        }
+    }
+    // The longest gap: 4,294,968 passes.
+    avr.uart_send(&[9, 0xff, 0xff, 0xff, 0xff, 0x01, 0, 0, 0]);
+    let reply = avr.uart_read_exact(8, 20_000_000).unwrap();
+    let word = |i: usize| u32::from_le_bytes([reply[i], reply[i + 1], reply[i + 2], reply[i + 3]]);
+    let (want_next, want_ms) = count_ms(u32::MAX, 1, 0);
+    assert_eq!((word(0), word(4)), (u32::from(want_next), want_ms));
+    assert_eq!((want_next, want_ms), (706, 4_294_968));
+    assert_eq!(cases, 5 * 27 * 4);
+    assert!(wrapped > 50, "{wrapped}");
 }

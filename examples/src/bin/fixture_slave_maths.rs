@@ -11,13 +11,16 @@
 //! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0);
 //! - op 8: the current filter's step (`current::CurrentFilter::push`) of the sample
 //!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
-//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
+//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum;
+//! - op 9: `clock::count_ms(a, b as u16, (b >> 16) · 0x10001)`: the µs to the next
+//!   whole ms, and the ms count.
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
 use shared::pid::sum;
+use shared::slave::clock::count_ms;
 use shared::slave::current::CurrentFilter;
 use shared::slave::{divide::div_rem, product};
 
@@ -56,6 +59,10 @@ fn main() -> ! {
             6 => (sum::dead_zone(sa, b) as u32, 0),
             7 if sb >= 0 => (sum::clamp(sa, sb) as u32, 0),
             8 => filter_sweep(a as u8),
+            9 => {
+                let (to_next, ms) = count_ms(a, b as u16, (b >> 16) * 0x1_0001);
+                (u32::from(to_next), ms)
+            }
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);
