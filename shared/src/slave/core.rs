@@ -461,11 +461,12 @@ impl<B: Board> Core<B> {
             m.start(now_us);
         }
         let first = now_us.wrapping_add(POSITION_PERIOD_US);
-        self.next_position_us = match self.variant() {
-            Variant::DriveSteer => [first, first],
+        match self.variant() {
+            // The steer only: the drive (M1) has no position deadline.
+            Variant::DriveSteer => self.next_position_us[1] = first,
             // ONE and TWO on alternate ticks.
-            Variant::LiftLift => [first, first.wrapping_add(TICK_US)],
-        };
+            Variant::LiftLift => self.next_position_us = [first, first.wrapping_add(TICK_US)],
+        }
     }
 
     #[inline(always)]
