@@ -59,7 +59,7 @@ macro_rules! firmware {
                 twi_port: Option<TwiSlave>,
                 sampler: Sampler,
                 $($encoder: Encoder,)?
-                eeprom: Option<u8>,
+                eeprom: u8,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -101,7 +101,7 @@ macro_rules! firmware {
                     twi_port: p.twi,
                     sampler: p.sampler,
                     $($encoder: p.$encoder,)?
-                    eeprom: Some(p.eeprom_byte),
+                    eeprom: p.eeprom_byte,
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -141,10 +141,12 @@ macro_rules! firmware {
                 Default::default()
             };
             let core = &mut *cx.local.core;
-            if let Some(byte) = *cx.local.eeprom {
-                // The first tick only (a load and a branch on the others).
+            let byte = *cx.local.eeprom;
+            if byte != 0 {
+                // The first tick only (a load and a branch on the others). A byte of 0
+                // gives no address, as the power-up logic has: nothing to set.
                 core.set_eeprom(byte);
-                *cx.local.eeprom = None;
+                *cx.local.eeprom = 0;
             }
             // One lock for everything the priority-2 tasks fill.
             let (adc, written, addressed) = cx
