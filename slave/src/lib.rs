@@ -59,7 +59,7 @@ macro_rules! firmware {
                 twi_port: Option<TwiSlave>,
                 sampler: Sampler,
                 $($encoder: Encoder,)?
-                eeprom: Option<u8>,
+                eeprom: u8,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -101,7 +101,7 @@ macro_rules! firmware {
                     twi_port: p.twi,
                     sampler: p.sampler,
                     $($encoder: p.$encoder,)?
-                    eeprom: Some(p.eeprom_byte),
+                    eeprom: p.eeprom_byte,
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -141,20 +141,22 @@ macro_rules! firmware {
                 Default::default()
             };
             let core = &mut *cx.local.core;
-            if let Some(byte) = *cx.local.eeprom {
-                // The first tick only (a load and a branch on the others).
+            let byte = *cx.local.eeprom;
+            if byte != 0 {
+                // The first tick only (a load and a branch on the others). A byte of 0
+                // gives no address, as the power-up logic has: nothing to set.
                 core.set_eeprom(byte);
-                *cx.local.eeprom = None;
+                *cx.local.eeprom = 0;
             }
             // One lock for everything the priority-2 tasks fill.
-            let (adc, changes, addressed) = cx
+            let (adc, written, addressed) = cx
                 .shared
                 .regs
-                .lock(|r| (r.adc().take(), r.take_changes(), r.take_addressed()));
+                .lock(|r| (r.adc().take(), r.take_written(), r.take_addressed()));
             let inputs = Inputs { edges, adc };
-            if let Some(mut changes) = changes {
-                while let Some(reg) = changes.take() {
-                    let raw = cx.shared.regs.lock(|r| r.take_value(reg));
+            if written {
+                // One register a lock, lowest first, until none is marked.
+                while let Some((reg, raw)) = cx.shared.regs.lock(|r| r.take_change()) {
                     core.apply(reg, raw);
                 }
             }

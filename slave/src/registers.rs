@@ -3,18 +3,19 @@
 //!
 //! Applying a changed register (`Core::apply`) converts raw values to fixed point, a
 //! few hundred cycles each; a burst of writes between two ticks would hold the TWI task
-//! off for a millisecond if done under the lock. Instead the tick takes the change marks
-//! under the lock (only when a write arrived since the last tick), then reads each marked
-//! register under a short lock of its own and applies it with the TWI free. No copy of
-//! the file: a register written again meanwhile is marked again and applied again next
-//! tick, with the same final state as applying both values in turn.
+//! off for a millisecond if done under the lock. Instead, when a write arrived since the
+//! last tick, the tick takes one marked register at a time (the lowest, its mark
+//! cleared, and its value) under a short lock and applies it with the TWI free, until
+//! none is marked. No copy of the file or of the marks: a register written again
+//! meanwhile is marked again and applied again, with the same final state as applying
+//! both values in turn.
 //!
 //! The ADC readings live in the same resource: the ADC task has the TWI task's
 //! priority, so the tick takes the readings, the change marks and the addressed flag
 //! under one lock.
 
 use shared::regs::id;
-use shared::slave::{AdcCollector, Board, Changes, RegisterFile};
+use shared::slave::{AdcCollector, Board, RegisterFile};
 
 /// The live register file, whether a data byte was written since the last take,
 /// whether the board was addressed (for the bus-silence failsafe), and the ADC readings.
@@ -60,24 +61,24 @@ impl<B: Board> Registers<B> {
         self.addressed = true;
     }
 
-    /// Under the lock, for the tick: the change marks, taken (cleared), if a data byte
-    /// was written since the last call.
+    /// Under the lock, for the tick: whether a data byte was written since the last
+    /// call (then some register may be marked changed).
     #[inline(always)]
-    pub fn take_changes(&mut self) -> Option<Changes> {
-        if !core::mem::take(&mut self.written) {
-            return None;
-        }
-        Some(self.file.take_changes())
+    pub fn take_written(&mut self) -> bool {
+        core::mem::take(&mut self.written)
     }
 
-    /// Under the lock, for the tick: a changed register's value. REG_RESET's bits are
-    /// taken: cleared in the file, so that bits written later are applied next tick.
-    pub fn take_value(&mut self, reg: u8) -> u16 {
+    /// Under the lock, for the tick: the lowest-numbered register marked changed, its
+    /// mark cleared, with its value. REG_RESET's bits are taken: cleared in the file, so
+    /// that bits written later are applied next time.
+    #[inline(always)]
+    pub fn take_change(&mut self) -> Option<(u8, u16)> {
+        let reg = self.file.take_changed()?;
         let raw = self.file.get(reg);
         if reg == id::REG_RESET {
             self.file.set(id::REG_RESET, 0);
         }
-        raw
+        Some((reg, raw))
     }
 
     /// Under the lock, for the tick: whether the board was addressed since the last

@@ -2,9 +2,10 @@
 //! `shared::slave::product` and `shared::pid::sum`) through `fixture_slave_maths`: the
 //! division at its edges and on pseudo-random operands, the 16×16→32 product, and the
 //! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
-//! on every pair of corner values and on pseudo-random operands of every width, and the
-//! monitoring values' mapping (`shared::slave::scale`) by nine scales, each checked
-//! against the host's own arithmetic (written out here, or the host build's). The host builds of these
+//! on every pair of corner values and on pseudo-random operands of every width, the
+//! monitoring values' mapping (`shared::slave::scale`) by nine scales, the current
+//! filter's step on every input and the clock's count of whole ms, each checked against
+//! the host's own arithmetic (written out here, or the host build's). The host builds of these
 //! functions are plain Rust, so only this test shows the assembly right.
 
 use harness::Avr;
@@ -279,4 +280,73 @@ fn monitoring_map_matches_the_host_at_the_clamps_and_on_random_values() {
     }
     assert_eq!(checked, 9 * (11 + SIGNED.len() + 240));
     assert!(inside > 9 * 150, "{inside} values inside the ranges");
+}
+
+#[test]
+fn current_filter_step_matches_the_formula_on_every_input() {
+    // Every sample byte c and every raw value f (2^24 steps): the chip's results, in
+    // order, hashed and summed there, against the host's formula. The hash changes with
+    // any single wrong result (each step of it is a bijection).
+    let mut avr = fixture();
+    let mut reached = [0usize; 2];
+    for c in 0..=u8::MAX {
+        avr.uart_send(&[10, c, 0, 0, 0, 0, 0, 0, 0]);
+        let reply = avr.uart_read_exact(8, 30_000_000).unwrap();
+        let word =
+            |i: usize| u32::from_le_bytes([reply[i], reply[i + 1], reply[i + 2], reply[i + 3]]);
+        let (mut hash, mut sum) = (0u32, 0u32);
+        let q = u32::from(c) << 8;
+        for f in 0..=u32::from(u16::MAX) {
+            let rising = q > f;
+            let p = if rising { 25 } else { 2 };
+            let want = (256 - p) * f / 256 + q * p / 256;
+            hash = hash.rotate_left(5) ^ want;
+            sum = sum.wrapping_add(want);
+            reached[usize::from(rising)] += 1;
+        }
+        assert_eq!((word(0), word(4)), (hash, sum), "sample {c}: hash, sum");
+    }
+    // Both branches, each on more than a quarter of the inputs.
+    assert_eq!(reached[0] + reached[1], 1 << 24);
+    assert!(reached[0] > 1 << 22 && reached[1] > 1 << 22, "{reached:?}");
+}
+
+#[test]
+fn clock_count_of_whole_ms_matches_the_host() {
+    // Gaps at and around each distance to the next ms, around whole ms and 2^16, a
+    // pseudo-random set below 2^22 µs and the longest; ms counts at 0, at a 16-bit
+    // carry and at the 32-bit wrap.
+    use shared::slave::clock::count_ms;
+    let mut avr = fixture();
+    let mut cases = 0;
+    let mut wrapped = 0;
+    for to_next in [1u16, 2, 500, 999, 1000] {
+        let t = u32::from(to_next);
+        let mut gaps = vec![0, 1, t - 1, t, t + 1, 999, 1000, 1001, 1999, 2000, 2001];
+        gaps.extend([65_535, 65_536, 123_456, (1 << 20) + 7]);
+        gaps.extend(operands(12).map(|x| x >> 10));
+        for gap in gaps {
+            for high in [0u32, 1, 0x1234, 0xffff] {
+                let ms = high * 0x1_0001;
+                let (want_next, want_ms) = count_ms(gap, to_next, ms);
+                let got = request(&mut avr, 9, gap, high << 16 | t);
+                assert_eq!(
+                    got,
+                    (u32::from(want_next), want_ms),
+                    "{gap} µs, {to_next}, {ms}"
+                );
+                cases += 1;
+                wrapped += usize::from(want_ms < ms);
+            }
+        }
+    }
+    // The longest gap: 4,294,968 passes.
+    avr.uart_send(&[9, 0xff, 0xff, 0xff, 0xff, 0x01, 0, 0, 0]);
+    let reply = avr.uart_read_exact(8, 20_000_000).unwrap();
+    let word = |i: usize| u32::from_le_bytes([reply[i], reply[i + 1], reply[i + 2], reply[i + 3]]);
+    let (want_next, want_ms) = count_ms(u32::MAX, 1, 0);
+    assert_eq!((word(0), word(4)), (u32::from(want_next), want_ms));
+    assert_eq!((want_next, want_ms), (706, 4_294_968));
+    assert_eq!(cases, 5 * 27 * 4);
+    assert!(wrapped > 50, "{wrapped}");
 }

@@ -10,7 +10,12 @@
 //! - op 6: `pid::sum::dead_zone(a, b)`;
 //! - op 7: `pid::sum::clamp(a, b)` (b ≥ 0);
 //! - op 8: `scale::Mapping::map` of the value with bits a by scale b of [`MAPPINGS`]:
-//!   the raw monitoring value.
+//!   the raw monitoring value;
+//! - op 9: `clock::count_ms(a, b as u16, (b >> 16) · 0x10001)`: the µs to the next
+//!   whole ms, and the ms count;
+//! - op 10: the current filter's step (`current::CurrentFilter::push`) of the sample
+//!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
+//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
 #![no_std]
 #![no_main]
 
@@ -18,6 +23,8 @@ use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
 use shared::pid::{sum, Fix};
 use shared::regs::{id, DS};
+use shared::slave::clock::count_ms;
+use shared::slave::current::CurrentFilter;
 use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
 
@@ -35,6 +42,20 @@ static MAPPINGS: [Mapping; 9] = [
     Scale::of(&DS, id::REGDS_DRIVE_DEADZONE).mapping(),
     Scale::of(&DS, id::REGDS_DRIVE_STALLCHECK).mapping(),
 ];
+
+/// The current filter's step from every raw value with sample `c`: a hash of the
+/// 65,536 results in order, and their wrapping sum.
+fn filter_sweep(c: u8) -> (u32, u32) {
+    let (mut hash, mut sum) = (0u32, 0u32);
+    for f in 0..=u16::MAX {
+        let mut filter = CurrentFilter::from_raw(black_box(f));
+        filter.push(black_box(u16::from(c)));
+        let got = filter.raw();
+        hash = hash.rotate_left(5) ^ u32::from(got);
+        sum = sum.wrapping_add(u32::from(got));
+    }
+    (hash, sum)
+}
 
 #[avr_device::entry]
 fn main() -> ! {
@@ -60,6 +81,11 @@ fn main() -> ! {
                 Some(mapping) => (u32::from(mapping.map(Fix::from_bits(sa))), 0),
                 None => (u32::MAX, u32::MAX),
             },
+            9 => {
+                let (to_next, ms) = count_ms(a, b as u16, (b >> 16) * 0x1_0001);
+                (u32::from(to_next), ms)
+            }
+            10 => filter_sweep(a as u8),
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);

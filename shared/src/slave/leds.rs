@@ -49,20 +49,22 @@ impl LedLevels {
         led2: false,
     };
 
-    fn or(self, other: LedLevels) -> LedLevels {
+    /// The levels of a [`Mask`].
+    const fn from_mask(mask: Mask) -> LedLevels {
         LedLevels {
-            led1: self.led1 | other.led1,
-            led2: self.led2 | other.led2,
-        }
-    }
-
-    fn one(led: Led) -> LedLevels {
-        LedLevels {
-            led1: led == Led::Led1,
-            led2: led == Led::Led2,
+            led1: mask & LED1 != 0,
+            led2: mask & LED2 != 0,
         }
     }
 }
+
+/// Levels as bits, as [`Leds`] keeps and combines them (one byte, one `or`, one
+/// compare): LED1 bit 0, LED2 bit 1, the bits of the address display.
+type Mask = u8;
+/// LED1's bit.
+const LED1: Mask = 1;
+/// LED2's bit.
+const LED2: Mask = 2;
 
 /// One of the two LEDs.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -71,6 +73,16 @@ pub enum Led {
     Led1,
     /// LED2, on A3.
     Led2,
+}
+
+impl Led {
+    /// Its bit.
+    const fn mask(self) -> Mask {
+        match self {
+            Led::Led1 => LED1,
+            Led::Led2 => LED2,
+        }
+    }
 }
 
 /// The low 16 bits of the ms clock: every deadline here is at most 600 ms ahead, and
@@ -106,8 +118,8 @@ pub struct Leds {
     debug: Option<(Led, Ms)>,
     heartbeat_at: Ms,
     /// The last levels, valid before `valid_until` while the latch shows `latch`.
-    shown: LedLevels,
-    latch: LedLevels,
+    shown: Mask,
+    latch: Mask,
     valid_until: Ms,
 }
 
@@ -120,8 +132,8 @@ impl Leds {
             ping_until: None,
             debug: None,
             heartbeat_at: end,
-            shown: LedLevels::OFF,
-            latch: LedLevels::OFF,
+            shown: 0,
+            latch: 0,
             valid_until: low(now_ms),
         }
     }
@@ -162,15 +174,15 @@ impl Leds {
         variant: Variant,
         state: &State,
     ) -> LedLevels {
-        let latch = latch(state);
+        let latch = latch_mask(state);
         if before(low(now_ms), self.valid_until) && latch == self.latch {
-            return self.shown;
+            return LedLevels::from_mask(self.shown);
         }
         let (levels, valid_until) = self.compute(now_ms, address, variant, latch);
         self.shown = levels;
         self.latch = latch;
         self.valid_until = valid_until;
-        levels
+        LedLevels::from_mask(levels)
     }
 
     /// The levels at `now_ms` with the latch showing `latch`, and the first ms at which
@@ -178,20 +190,11 @@ impl Leds {
     /// on most ticks, and a call cost the drive/steer image 116 B more (its arguments
     /// and the variant's tests, which fold away in line).
     #[inline(always)]
-    fn compute(
-        &mut self,
-        now_ms: u32,
-        address: u8,
-        variant: Variant,
-        latch: LedLevels,
-    ) -> (LedLevels, Ms) {
+    fn compute(&mut self, now_ms: u32, address: u8, variant: Variant, latch: Mask) -> (Mask, Ms) {
         let now_ms = low(now_ms);
         if before(now_ms, self.display_until) {
-            let display = LedLevels {
-                led1: address & 1 != 0,
-                led2: address & 2 != 0,
-            };
-            return (display, self.display_until);
+            // Address bit 0 on LED1, bit 1 on LED2.
+            return (address & (LED1 | LED2), self.display_until);
         }
         // Passed for good: kept at most 101 ms behind, so the wrap never revives it.
         self.display_until = now_ms;
@@ -199,7 +202,7 @@ impl Leds {
         let mut next = self.heartbeat_at;
         if let Some(until) = self.ping_until {
             if before(now_ms, until) {
-                levels = levels.or(LedLevels::one(ping_led(variant)));
+                levels |= ping_led(variant).mask();
                 next = earliest(next, until);
             } else {
                 self.ping_until = None;
@@ -207,7 +210,7 @@ impl Leds {
         }
         if let Some((led, until)) = self.debug {
             if before(now_ms, until) {
-                levels = levels.or(LedLevels::one(led));
+                levels |= led.mask();
                 next = earliest(next, until);
             } else {
                 self.debug = None;
@@ -215,7 +218,7 @@ impl Leds {
         }
         if !before(now_ms, self.heartbeat_at) {
             self.heartbeat_at = now_ms.wrapping_add(HEARTBEAT_MS as Ms);
-            levels.led2 = true;
+            levels |= LED2;
             // Lit for this tick only.
             next = now_ms.wrapping_add(1);
         }
@@ -243,18 +246,18 @@ pub const fn ping_led(variant: Variant) -> Led {
 /// The exception latch display: the faulty motor's LED, both for an exception of no
 /// motor, none for boot or while running.
 pub fn latch(state: &State) -> LedLevels {
+    LedLevels::from_mask(latch_mask(state))
+}
+
+/// [`latch`] as a [`Mask`].
+fn latch_mask(state: &State) -> Mask {
     match state {
-        State::Exception(Cause::Boot) | State::Running { .. } | State::Restarting { .. } => {
-            LedLevels::OFF
-        }
-        State::Exception(Cause::Remote | Cause::BusSilent) => LedLevels {
-            led1: true,
-            led2: true,
+        State::Exception(Cause::Boot) | State::Running { .. } | State::Restarting { .. } => 0,
+        State::Exception(Cause::Remote | Cause::BusSilent) => LED1 | LED2,
+        State::Exception(Cause::Local { motor, .. }) => match motor {
+            MotorId::M1 => LED1,
+            MotorId::M2 => LED2,
         },
-        State::Exception(Cause::Local { motor, .. }) => LedLevels::one(match motor {
-            MotorId::M1 => Led::Led1,
-            MotorId::M2 => Led::Led2,
-        }),
     }
 }
 
@@ -303,11 +306,48 @@ mod tests {
                 fresh.debug(now, value);
             }
             let a = kept.levels(now, 6, Variant::LiftLift, &state);
-            let (b, _) = fresh.compute(now, 6, Variant::LiftLift, latch(&state));
-            assert_eq!(a, b, "tick {t}");
+            let (b, _) = fresh.compute(now, 6, Variant::LiftLift, latch_mask(&state));
+            assert_eq!(a, LedLevels::from_mask(b), "tick {t}");
             lit += usize::from(a.led1) + usize::from(a.led2);
         }
         assert!(lit > 1_000, "the sources lit the LEDs {lit} times");
+    }
+
+    #[test]
+    fn the_latch_is_the_faulty_motor_s_led_both_for_no_motor_none_otherwise() {
+        use crate::slave::state::LocalFault::*;
+        let mut states = vec![
+            State::POWER_UP,
+            State::Exception(Cause::Remote),
+            State::Exception(Cause::BusSilent),
+        ];
+        for last in [Cause::Boot, Cause::Remote, Cause::BusSilent] {
+            states.push(State::Running { last });
+            states.push(State::Restarting { last });
+        }
+        for fault in [Overcurrent, ShortOc, Stall, EncoderFault, DriveFault] {
+            for motor in MotorId::BOTH {
+                let local = Cause::Local { fault, motor };
+                states.extend([
+                    State::Exception(local),
+                    State::Running { last: local },
+                    State::Restarting { last: local },
+                ]);
+            }
+        }
+        let mut lit = [0; 3];
+        for state in &states {
+            let (led1, led2) = match state {
+                State::Exception(Cause::Remote | Cause::BusSilent) => (true, true),
+                State::Exception(Cause::Local { motor, .. }) => {
+                    (*motor == MotorId::M1, *motor == MotorId::M2)
+                }
+                _ => (false, false),
+            };
+            assert_eq!(latch(state), LedLevels { led1, led2 }, "{state:?}");
+            lit[usize::from(led1) + usize::from(led2)] += 1;
+        }
+        assert_eq!(lit, [states.len() - 12, 10, 2]);
     }
 
     #[test]
