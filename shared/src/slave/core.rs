@@ -32,8 +32,11 @@
 //! products come from the hardware multiplier ([`super::product`]). What keeps the image
 //! small: the core's power-up state is compile-time data (`Core::POWER_UP`, copied with
 //! `.data` at reset); the two PID forms share one update; the PID's saturating product,
-//! sum and difference are short assembly routines ([`super::product::fixed`],
-//! [`crate::pid::sum`]); no 32-bit library multiplication is linked; ms deadlines are
+//! sum and difference, the division, the monitoring mapping, the current filter's step
+//! and the clock's ms count are short assembly routines ([`super::product::fixed`],
+//! [`crate::pid::sum`], [`super::divide`], [`super::scale`], [`super::current`],
+//! [`super::clock`]), each checked on the emulated chip against the host's arithmetic
+//! (`tests/tests/slave_maths.rs`); no 32-bit library multiplication is linked; ms deadlines are
 //! 16-bit where a check every tick keeps the wrap from showing; the lift/lift board's
 //! two position updates are one out-of-line copy, and its image has no encoder task.
 //!
