@@ -274,41 +274,34 @@ pub struct UpdateContext {
     pub fault_time_ms: u16,
 }
 
-/// One motor.
+/// One motor. `repr(C)`, in this order: what the update reaches (the fault detector,
+/// the parameters and the controller) within the AVR's 64-byte `LDD`/`STD` reach of its
+/// start.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(C)]
 pub struct Motor {
     /// How it is controlled.
     pub kind: Kind,
-    /// Its parameters: read them here, set them through [`Motor::set_param`] (which
-    /// forgets what depends on them).
-    pub params: Params,
-    pid: Pid,
-    /// The CURRENT register's filter (with the original's wrap).
-    current: CurrentFilter,
-    /// The same filter without the wrap, for the fault detector.
-    level: CurrentFilter,
     fault: FaultDetector,
-    /// When the previous update ran (or the board started), µs.
-    last_update_us: u32,
-    /// µs from the last mapping of the monitoring values to the previous update (or to
-    /// the start): below [`MONITOR_PERIOD_US`] after each update, so 16 bits hold it.
-    since_mapped_us: u16,
-    monitors: Monitors,
-    /// What the monitoring values were last mapped from (at power-up: what
-    /// [`Monitors::POWER_ON`] maps from).
-    mapped_from: MappedFrom,
-    /// The last pot reading [`Motor::angle`] converted (clamped to the ADC's range;
-    /// [`NO_READING`] when none), and its angle.
-    angle_reading: u16,
-    angle: Fix,
     /// The last update was a position update outside an exception after which the
     /// same measurement gives [`Step::REST`] ([`Step::rests`]), and no parameter was set
     /// since.
     at_rest: bool,
-    /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
-    fresh: bool,
     /// The duty the controller last asked for.
     demand: Duty,
+    /// Its parameters: read them here, set them through [`Motor::set_param`] (which
+    /// forgets what depends on them).
+    pub params: Params,
+    /// The controller and the monitoring record's state.
+    track: Track,
+    /// The CURRENT register's filter (with the original's wrap).
+    current: CurrentFilter,
+    /// The same filter without the wrap, for the fault detector.
+    level: CurrentFilter,
+    /// The last pot reading [`Motor::angle`] converted (clamped to the ADC's range;
+    /// [`NO_READING`] when none), and its angle.
+    angle_reading: u16,
+    angle: Fix,
     /// The duty applied to the motor now (0 when stopped).
     applied: u8,
 }
@@ -319,18 +312,20 @@ impl Motor {
         Motor {
             kind,
             params: Params::POWER_ON,
-            pid: Pid::new(),
+            track: Track {
+                pid: Pid::new(),
+                last_update_us: 0,
+                since_mapped_us: 0,
+                monitors: Monitors::POWER_ON,
+                mapped_from: MappedFrom::POWER_ON,
+                fresh: true,
+            },
             current: CurrentFilter::new(),
             level: CurrentFilter::new(),
             fault: FaultDetector::new(),
-            last_update_us: 0,
-            since_mapped_us: 0,
-            monitors: Monitors::POWER_ON,
-            mapped_from: MappedFrom::POWER_ON,
             angle_reading: NO_READING,
             angle: Fix::ZERO,
             at_rest: false,
-            fresh: true,
             demand: Duty::IDLE,
             applied: 0,
         }
@@ -386,9 +381,9 @@ impl Motor {
 
     /// Starts the interval clock at the board's first tick.
     pub fn start(&mut self, now_us: u32) {
-        self.last_update_us = now_us;
+        self.track.last_update_us = now_us;
         // The first update maps.
-        self.since_mapped_us = MONITOR_PERIOD_US as u16;
+        self.track.since_mapped_us = MONITOR_PERIOD_US as u16;
     }
 
     /// Feeds a tick's current readings; returns an overcurrent fault if the peak is above
@@ -458,7 +453,10 @@ impl Motor {
         } else {
             Form::Speed
         };
-        let step = self.pid.update(form, &self.params.gains, required, actual);
+        let step = self
+            .track
+            .pid
+            .update(form, &self.params.gains, required, actual);
         // `&` on the kind, not `&&`: a branch on it here would let the optimiser split the
         // drive/steer board's update by kind from the controller's form on and carry the
         // duty's conversion twice (54 B).
@@ -471,7 +469,7 @@ impl Motor {
         };
         // The duty applied: 0 in exception (NO_CONTROL's low byte).
         let duty = control as u8;
-        self.record(kind, step.error, step.deriv, control, cx);
+        self.track.record(kind, step.error, step.deriv, control, cx);
         let motion = match kind {
             Kind::Drive => Motion::Speed(actual),
             Kind::Position => Motion::Angle(actual),
@@ -493,7 +491,7 @@ impl Motor {
     /// monitoring values, is all that is left of it.
     #[inline(always)]
     pub fn holds(&self, actual: Fix, cx: &UpdateContext) -> bool {
-        self.at_rest && !cx.in_exception && !differ(self.pid.last_actual(), actual)
+        self.at_rest && !cx.in_exception && !differ(self.track.pid.last_actual(), actual)
     }
 
     /// An update that [`Motor::holds`]: only the interval and the monitoring values (its
@@ -501,9 +499,73 @@ impl Motor {
     #[inline(always)]
     pub fn hold(&mut self, kind: Kind, cx: &UpdateContext) {
         // At rest the controller holds this measurement and I = 0 ([`Step::rests`]).
-        self.record(kind, Step::REST.error, Step::REST.deriv, 0, cx);
+        self.track
+            .record(kind, Step::REST.error, Step::REST.deriv, 0, cx);
     }
 
+    /// The output for the motor while the slave runs normally.
+    pub fn demand(&self) -> Duty {
+        self.demand
+    }
+
+    /// Records the duty the firmware applies (0 when stopped).
+    pub fn set_applied(&mut self, duty: u8) {
+        self.applied = duty;
+    }
+
+    /// CURRENT: the filtered current, 0..255.
+    pub fn current(&self) -> u8 {
+        self.current.reading()
+    }
+
+    /// The wrap-free filtered current the fault detector uses.
+    pub fn current_level(&self) -> u8 {
+        self.level.reading()
+    }
+
+    /// The monitoring values.
+    pub fn monitors(&self) -> &Monitors {
+        &self.track.monitors
+    }
+
+    /// Whether the mapped monitoring values changed since the previous call (true at
+    /// power-up), clearing the mark: they need writing to the register file only then.
+    pub fn take_fresh(&mut self) -> bool {
+        core::mem::take(&mut self.track.fresh)
+    }
+
+    /// The controller's state.
+    pub fn pid(&self) -> &Pid {
+        &self.track.pid
+    }
+}
+
+/// A motor's controller with what its monitoring record keeps, together (`repr(C)`, 42
+/// B): [`Track::record`] reaches every field at a displacement below 64 from one pointer
+/// (the AVR's `LDD`/`STD` reach), where from the motor's start most of them took an
+/// address sum each.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(C)]
+struct Track {
+    pid: Pid,
+    /// When the previous update ran (or the board started), µs.
+    last_update_us: u32,
+    /// µs from the last mapping of the monitoring values to the previous update (or to
+    /// the start): below [`MONITOR_PERIOD_US`] after each update, so 16 bits hold it.
+    since_mapped_us: u16,
+    monitors: Monitors,
+    /// What the monitoring values were last mapped from (at power-up: what
+    /// [`Monitors::POWER_ON`] maps from).
+    mapped_from: MappedFrom,
+    /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
+    fresh: bool,
+}
+
+// On the AVR (every field 1-aligned) a field's last byte is within `LDD`/`STD` reach.
+#[cfg(target_arch = "avr")]
+const _: () = assert!(core::mem::size_of::<Track>() <= 64);
+
+impl Track {
     /// The interval since the previous update, and the monitoring values when due, for
     /// an update whose step had the error `error` and the derivative `deriv` (both 0 for
     /// an update that holds: [`Step::REST`]). One copy for [`Motor::update_as`] and
@@ -564,42 +626,6 @@ impl Motor {
                 }
             }
         }
-    }
-
-    /// The output for the motor while the slave runs normally.
-    pub fn demand(&self) -> Duty {
-        self.demand
-    }
-
-    /// Records the duty the firmware applies (0 when stopped).
-    pub fn set_applied(&mut self, duty: u8) {
-        self.applied = duty;
-    }
-
-    /// CURRENT: the filtered current, 0..255.
-    pub fn current(&self) -> u8 {
-        self.current.reading()
-    }
-
-    /// The wrap-free filtered current the fault detector uses.
-    pub fn current_level(&self) -> u8 {
-        self.level.reading()
-    }
-
-    /// The monitoring values.
-    pub fn monitors(&self) -> &Monitors {
-        &self.monitors
-    }
-
-    /// Whether the mapped monitoring values changed since the previous call (true at
-    /// power-up), clearing the mark: they need writing to the register file only then.
-    pub fn take_fresh(&mut self) -> bool {
-        core::mem::take(&mut self.fresh)
-    }
-
-    /// The controller's state.
-    pub fn pid(&self) -> &Pid {
-        &self.pid
     }
 }
 
@@ -770,7 +796,7 @@ mod tests {
                     fault_time_ms: 500,
                 };
                 let (error, deriv) = (Fix::from_bits(error), Fix::from_bits(deriv));
-                m.record(Kind::Drive, error, deriv, 0, &cx);
+                m.track.record(Kind::Drive, error, deriv, 0, &cx);
                 assert!(m.take_fresh(), "{k}");
                 let raw = m.monitors().raw;
                 assert_eq!(raw[1], map(scale(Monitor::Error), error), "{k} {error}");
@@ -1024,7 +1050,7 @@ mod tests {
                             fault_time_ms: 500,
                         };
                         let actual = Fix::from_num(actual);
-                        let mut pid = m.pid;
+                        let mut pid = m.track.pid;
                         m.update(actual, &cx);
                         let step = match kind {
                             Kind::Drive => pid.speed(&m.params.gains, m.params.required, actual),
@@ -1111,7 +1137,7 @@ mod tests {
                 fault_time_ms: 500,
             };
             m.update(Fix::ZERO, &cx);
-            let step = m.pid;
+            let step = m.track.pid;
             rests += usize::from(step.integral() == Fix::ZERO && step.control() == Fix::ZERO);
             assert!(!m.at_rest && !m.holds(Fix::ZERO, &cx), "update {k}");
         }
