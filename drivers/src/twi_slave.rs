@@ -47,6 +47,12 @@ impl TwiSlave {
         TwiSlave { twi }
     }
 
+    /// The TWI left off, as at power-up: it never raises TWINT, so its task never runs
+    /// (a slave without a valid address stays off the bus).
+    pub fn off(twi: TWI) -> TwiSlave {
+        TwiSlave { twi }
+    }
+
     /// The event behind the current TWINT.
     #[inline]
     pub fn event(&self) -> Event {

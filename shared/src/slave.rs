@@ -49,7 +49,9 @@ pub mod words;
 pub use self::core::{Core, POSITION_PERIOD_US, TICK_US};
 pub use board::{bus_address, Board, DriveSteerBoard, LiftLiftBoard, MotorId, Variant};
 pub use encoder::{DriveMode, EdgeCounter, EdgeSample};
-pub use io::{AdcChannel, AdcCollector, AdcSample, Inputs, MotorOutput, Outputs, Watchdog};
+pub use io::{
+    next_mux, AdcChannel, AdcCollector, AdcSample, Inputs, MotorOutput, Outputs, Watchdog,
+};
 pub use leds::LedLevels;
 pub use registers::{Changes, RegisterFile};
 pub use silence::SilenceWatch;

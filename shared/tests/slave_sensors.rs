@@ -389,3 +389,51 @@ fn pot_angles_by_hand() {
         2
     );
 }
+
+#[test]
+fn next_mux_is_the_round_robin_and_the_collector_matches_the_field_by_field_form() {
+    use shared::slave::next_mux;
+    for ch in AdcChannel::ORDER {
+        assert_eq!(next_mux(ch.mux()), ch.next().mux(), "{ch:?}");
+    }
+    assert_eq!([0, 1, 6, 7].map(next_mux), [1, 6, 7, 0]);
+    // The form the collector replaced: one field per channel, the peak a max.
+    let mut wide = AdcSample::default();
+    let mut adc = AdcCollector::new();
+    let mut seed = 0x9e37_79b9u32;
+    let mut mux = 0u8;
+    for step in 0..20_000u32 {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        let value = (seed % 1024) as u16;
+        // Mostly the round robin, sometimes a channel out of turn.
+        let ch = if seed.is_multiple_of(7) {
+            AdcChannel::ORDER[(seed >> 8) as usize % 4]
+        } else {
+            let ch = AdcChannel::ORDER
+                .into_iter()
+                .find(|c| c.mux() == mux)
+                .unwrap();
+            mux = next_mux(mux);
+            ch
+        };
+        match ch {
+            AdcChannel::Current1 => {
+                wide.current[0] = value;
+                wide.current_peak[0] = wide.current_peak[0].max(value);
+            }
+            AdcChannel::Current2 => {
+                wide.current[1] = value;
+                wide.current_peak[1] = wide.current_peak[1].max(value);
+            }
+            AdcChannel::Pot6 => wide.ch6 = value,
+            AdcChannel::Pot7 => wide.ch7 = value,
+        }
+        adc.record(ch, value);
+        if step.is_multiple_of(9) {
+            assert_eq!(adc.take(), wide, "{step}");
+            wide.current_peak = wide.current;
+        }
+    }
+}

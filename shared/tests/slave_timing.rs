@@ -183,3 +183,88 @@ fn ram_size_of_the_logic() {
     assert_eq!(counter, 8);
     assert_eq!(adc, 12);
 }
+
+/// The 32-bit deadline form the position updates used before `due_every`.
+fn due_wide(next: &mut u32, now: u32, period: u32) -> bool {
+    if (now.wrapping_sub(*next) as i32) < 0 {
+        return false;
+    }
+    *next = next.wrapping_add(period);
+    if (now.wrapping_sub(*next) as i32) >= 0 {
+        *next = now.wrapping_add(period);
+    }
+    true
+}
+
+#[test]
+fn a_16_bit_deadline_with_the_long_gap_flag_is_due_as_the_32_bit_one() {
+    use shared::slave::clock::due_every;
+    const P: u32 = POSITION_PERIOD_US;
+    // Gaps: every value up to 40,000 µs once each (past 2^15 both ways), then
+    // pseudo-random ones (mostly a tick, some long, some up to 2^31 − 1).
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut random = move |bound: u32| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % u64::from(bound)) as u32
+    };
+    let mut dues = [0u32; 2];
+    let mut long = 0;
+    for start in [0u32, 1, 31_000, 65_535, u32::MAX - 2_500, 0x8000_0000] {
+        // A deadline 1..=3,000 µs ahead, as Core::start leaves them.
+        for ahead in [1u32, 999, 1_000, 2_000, 3_000] {
+            let mut now = start;
+            let mut wide = now.wrapping_add(ahead);
+            let mut narrow = wide as u16;
+            for step in 0..60_000u32 {
+                let gap = match step {
+                    0..40_000 => step,
+                    _ => match random(20) {
+                        0 => random(0x8000_0000),
+                        1 => random(100_000),
+                        2 => 32_760 + random(16),
+                        _ => 995 + random(10),
+                    },
+                };
+                now = now.wrapping_add(gap);
+                // Clock::long_gap (its own tests check it against the gap).
+                let long_gap = gap >= 1 << 15;
+                long += u32::from(long_gap);
+                let due = due_wide(&mut wide, now, P);
+                assert_eq!(
+                    due_every(&mut narrow, now as u16, long_gap, P as u16),
+                    due,
+                    "{start} {ahead} {step}"
+                );
+                assert_eq!(narrow, wide as u16, "{start} {ahead} {step}");
+                // The invariant the 16-bit form rests on: 1..=3,000 µs ahead.
+                assert!((1..=3_000).contains(&wide.wrapping_sub(now)));
+                dues[usize::from(due)] += 1;
+            }
+        }
+    }
+    assert!(dues[0] > 100_000 && dues[1] > 100_000, "{dues:?}");
+    assert!(long > 100_000, "{long}");
+}
+
+#[test]
+fn a_16_bit_deadline_steps_by_its_period_and_restarts_when_late() {
+    use shared::slave::clock::due_every;
+    let mut next = 65_000u16;
+    // Not yet due: 1 µs before, unchanged.
+    assert!(!due_every(&mut next, 64_999, false, 2_000));
+    assert_eq!(next, 65_000);
+    // Due on time: one period on, across the 16-bit wrap.
+    assert!(due_every(&mut next, 65_000, false, 2_000));
+    assert_eq!(next, 1_464);
+    // Due 1,999 µs late: still one period on.
+    assert!(due_every(&mut next, 3_463, false, 2_000));
+    assert_eq!(next, 3_464);
+    // Due a whole period late: restarts from now.
+    assert!(due_every(&mut next, 5_464, false, 2_000));
+    assert_eq!(next, 7_464);
+    // A long gap: due and restarted from now, whatever the 16 bits say.
+    assert!(due_every(&mut next, 7_000, true, 2_000));
+    assert_eq!(next, 9_000);
+}

@@ -34,8 +34,8 @@ pub struct Parts<B: Board> {
     pub edges: EdgeCounter,
     /// The µs clock (compare A, encoder and tick).
     pub clock: Clock,
-    /// The TWI, enabled only with a valid address.
-    pub twi: Option<TwiSlave>,
+    /// The TWI, enabled only with a valid address (off otherwise: its task never runs).
+    pub twi: TwiSlave,
     /// The ADC round robin.
     pub sampler: Sampler,
     /// The encoder pins.
@@ -65,7 +65,10 @@ pub fn init<B: Board>(dp: Device, board: B) -> Parts<B> {
     stage.boot();
     let eeprom_byte = Eeprom::new(dp.EEPROM).read(0);
     // The same address the logic takes from the byte (`Core::set_eeprom`).
-    let twi = bus_address(eeprom_byte).map(|addr| TwiSlave::new(dp.TWI, addr));
+    let twi = match bus_address(eeprom_byte) {
+        Some(addr) => TwiSlave::new(dp.TWI, addr),
+        None => TwiSlave::off(dp.TWI),
+    };
     let (timebase, stamp) = Timebase::start(dp.TC0);
     Parts {
         regs: Registers::new(board),

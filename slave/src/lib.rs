@@ -56,7 +56,7 @@ macro_rules! firmware {
 
             #[local]
             struct Local {
-                twi_port: Option<TwiSlave>,
+                twi_port: TwiSlave,
                 sampler: Sampler,
                 $($encoder: Encoder,)?
                 eeprom: u8,
@@ -122,10 +122,9 @@ macro_rules! firmware {
             }
         )?
 
+        // Runs only on a board with a valid address: without one the TWI stays off.
         fn twi(mut cx: twi::Context) {
-            if let Some(port) = cx.local.twi_port {
-                $crate::bus::on_event(port, &mut cx.shared.regs);
-            }
+            $crate::bus::on_event(cx.local.twi_port, &mut cx.shared.regs);
         }
 
         fn sample(mut cx: sample::Context) {

@@ -2,29 +2,29 @@
 //! conversion started as soon as the previous one is stored.
 
 use drivers::adc::Adc;
-use shared::slave::{AdcChannel, AdcCollector};
+use shared::slave::{next_mux, AdcChannel, AdcCollector};
 
-/// The ADC and the channel being converted.
+/// The ADC and the multiplexer number of the channel being converted.
 pub struct Sampler {
     adc: Adc,
-    channel: AdcChannel,
+    mux: u8,
 }
 
 impl Sampler {
     /// Starts the first conversion (ch0).
     pub fn start(mut adc: Adc) -> Sampler {
-        let channel = AdcChannel::ORDER[0];
-        adc.start(channel.mux());
-        Sampler { adc, channel }
+        let mux = AdcChannel::ORDER[0].mux();
+        adc.start(mux);
+        Sampler { adc, mux }
     }
 
     /// A conversion finished: stores it and starts the next channel's.
     #[inline(always)]
     pub fn on_complete(&mut self, collector: &mut AdcCollector) {
         let value = self.adc.result();
-        let done = self.channel;
-        self.channel = done.next();
-        self.adc.start(self.channel.mux());
-        collector.record(done, value);
+        let done = self.mux;
+        self.mux = next_mux(done);
+        self.adc.start(self.mux);
+        collector.record_mux(done, value);
     }
 }

@@ -11,6 +11,9 @@ pub struct Clock {
     ms: u32,
     /// µs between the last two ticks, mod 2^16 (what REG_INTERVALI2C shows).
     interval_us: u16,
+    /// The last two ticks were 2^15 µs or more apart: a 16-bit µs deadline may have
+    /// been passed by more than its signed range shows (see [`due_every`]).
+    long_gap: bool,
 }
 
 impl Clock {
@@ -22,6 +25,7 @@ impl Clock {
             to_next_us: 1000,
             ms: 0,
             interval_us: 0,
+            long_gap: false,
         }
     }
 
@@ -40,6 +44,7 @@ impl Clock {
         } else {
             let elapsed = now_us.wrapping_sub(self.last_us);
             self.interval_us = elapsed as u16;
+            self.long_gap = elapsed >> 15 != 0;
             elapsed
         };
         self.started = true;
@@ -57,6 +62,38 @@ impl Clock {
     pub fn interval_us(&self) -> u16 {
         self.interval_us
     }
+
+    /// Whether the last two ticks were 2^15 µs or more apart (false after the first).
+    pub fn long_gap(&self) -> bool {
+        self.long_gap
+    }
+}
+
+/// A periodic µs deadline kept in 16 bits: whether `next` is due at `now_us` (mod 2^16),
+/// and if so, `next` moved on by `period_us`, or to `now_us + period_us` when that is
+/// still not ahead (more than a period late). `long_gap` is [`Clock::long_gap`].
+///
+/// The same as the 32-bit form (due when `(now − next) as i32 ≥ 0`, `next` and `now`
+/// in full µs) when called every tick, for gaps below 2^31 µs: after each call `next`
+/// is 1..=`ahead` µs past `now` (`ahead` ≤ 3,000 for the position updates), so `gap` µs
+/// later `now − next` lies in `gap − ahead ..= gap − 1`, which the 16-bit signed
+/// difference shows exactly for `gap` < 2^15; a longer gap (`long_gap`) leaves `now`
+/// more than `period_us` past `next` (2^15 − `ahead` − `period_us` > 0), where both
+/// forms restart from now. Tested against the 32-bit form.
+#[inline(always)]
+pub fn due_every(next: &mut u16, now_us: u16, long_gap: bool, period_us: u16) -> bool {
+    if !long_gap {
+        if (now_us.wrapping_sub(*next) as i16) < 0 {
+            return false;
+        }
+        *next = next.wrapping_add(period_us);
+        if (now_us.wrapping_sub(*next) as i16) < 0 {
+            return true;
+        }
+    }
+    // More than a period late (a stalled tick): start again from now.
+    *next = now_us.wrapping_add(period_us);
+    true
 }
 
 impl Default for Clock {
@@ -161,6 +198,7 @@ mod tests {
                 if step > 0 {
                     let gap = match next(50) {
                         0 => next(200_000),
+                        2 => 32_767 + next(2),
                         1 => 2_000 + next(3),
                         _ => 990 + next(20),
                     };
@@ -183,6 +221,11 @@ mod tests {
                     "{run}"
                 );
                 assert_eq!(clock.interval_us(), wide.interval_us as u16, "{run} {step}");
+                assert_eq!(
+                    clock.long_gap(),
+                    step > 0 && wide.interval_us >= 1 << 15,
+                    "{run} {step}"
+                );
             }
         }
         assert!(long > 10_000, "{long} long gaps");
@@ -202,6 +245,7 @@ mod tests {
         assert_eq!((clock.ms(), clock.to_next_us), (0, 1));
         assert!(!clock.advance(998));
         assert_eq!(clock.interval_us(), u16::MAX);
+        assert!(clock.long_gap());
         assert_eq!((clock.ms(), clock.to_next_us), (4_294_968, 706));
     }
 }

@@ -47,7 +47,7 @@
 use super::board::{
     bus_address, Board, DriveSteerBoard, Layout, LiftLiftBoard, Monitor, MotorId, Variant,
 };
-use super::clock::Clock;
+use super::clock::{self, Clock};
 use super::encoder::{DriveMode, Odometer, SpeedMeter};
 use super::fault::FAULT_TIME_POWER_ON_MS;
 use super::io::{Inputs, MotorOutput, Outputs, Watchdog};
@@ -103,7 +103,7 @@ pub struct Core<B: Board = Variant> {
     clock: Clock,
     leds: Leds,
     motors: [Motor; 2],
-    next_position_us: [u32; 2],
+    next_position_us: [u16; 2],
     speed: SpeedMeter,
     odometer: Odometer,
     /// REGDS_CHASSIS, raw.
@@ -454,12 +454,14 @@ impl<B: Board> Core<B> {
         for m in &mut self.motors {
             m.start(now_us);
         }
-        let first = now_us.wrapping_add(POSITION_PERIOD_US);
+        let first = (now_us as u16).wrapping_add(POSITION_PERIOD_US as u16);
         match self.variant() {
             // The steer only: the drive (M1) has no position deadline.
             Variant::DriveSteer => self.next_position_us[1] = first,
             // ONE and TWO on alternate ticks.
-            Variant::LiftLift => self.next_position_us = [first, first.wrapping_add(TICK_US)],
+            Variant::LiftLift => {
+                self.next_position_us = [first, first.wrapping_add(TICK_US as u16)]
+            }
         }
     }
 
@@ -499,18 +501,11 @@ impl<B: Board> Core<B> {
     }
 
     fn position_due(&mut self, motor: MotorId, now_us: u32) -> bool {
+        let long_gap = self.clock.long_gap();
         let Some(next) = self.next_position_us.get_mut(motor.index()) else {
             return false;
         };
-        if (now_us.wrapping_sub(*next) as i32) < 0 {
-            return false;
-        }
-        *next = next.wrapping_add(POSITION_PERIOD_US);
-        if (now_us.wrapping_sub(*next) as i32) >= 0 {
-            // More than a period late (a stalled tick): start again from now.
-            *next = now_us.wrapping_add(POSITION_PERIOD_US);
-        }
-        true
+        clock::due_every(next, now_us as u16, long_gap, POSITION_PERIOD_US as u16)
     }
 
     #[inline(always)]

@@ -37,7 +37,7 @@ impl AdcChannel {
         self as u8
     }
 
-    /// The channel converted after this one.
+    /// The channel converted after this one ([`next_mux`] in channel form).
     pub const fn next(self) -> AdcChannel {
         match self {
             AdcChannel::Current1 => AdcChannel::Current2,
@@ -46,6 +46,14 @@ impl AdcChannel {
             AdcChannel::Pot7 => AdcChannel::Current1,
         }
     }
+}
+
+/// The multiplexer number of the channel converted after the one numbered `mux` (one of
+/// 0, 1, 6, 7): the round robin's position `mux & 3` plus one, back to a channel number.
+/// On the AVR a few register operations, where a `match` is a tree of compares.
+pub const fn next_mux(mux: u8) -> u8 {
+    let i = mux.wrapping_add(1) & 3;
+    i | (i & 2) << 1
 }
 
 /// The ADC readings one tick works with.
@@ -63,38 +71,41 @@ pub struct AdcSample {
 }
 
 /// The ADC interrupt's collector: the latest value of each channel and the current peaks.
+///
+/// Kept by the round robin's position (a channel's `mux & 3`: current 1, current 2, ch6,
+/// ch7), so that recording is an indexed store, not a `match` per channel.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct AdcCollector {
-    sample: AdcSample,
+    /// The latest reading by position.
+    latest: [u16; 4],
+    /// The highest current reading of M1 and M2 since the last take.
+    peak: [u16; 2],
 }
 
 impl AdcCollector {
     /// All zero.
     pub const fn new() -> AdcCollector {
         AdcCollector {
-            sample: AdcSample {
-                current: [0; 2],
-                current_peak: [0; 2],
-                ch6: 0,
-                ch7: 0,
-            },
+            latest: [0; 4],
+            peak: [0; 2],
         }
     }
 
     /// Records a conversion result.
     pub fn record(&mut self, channel: AdcChannel, value: u16) {
-        let s = &mut self.sample;
-        match channel {
-            AdcChannel::Current1 => {
-                s.current[0] = value;
-                s.current_peak[0] = s.current_peak[0].max(value);
-            }
-            AdcChannel::Current2 => {
-                s.current[1] = value;
-                s.current_peak[1] = s.current_peak[1].max(value);
-            }
-            AdcChannel::Pot6 => s.ch6 = value,
-            AdcChannel::Pot7 => s.ch7 = value,
+        self.record_mux(channel.mux(), value);
+    }
+
+    /// Records a conversion result of the channel numbered `mux` (one of 0, 1, 6, 7;
+    /// others are taken by their `mux & 3`, as the ADC task never passes them).
+    #[inline(always)]
+    pub fn record_mux(&mut self, mux: u8, value: u16) {
+        let i = usize::from(mux & 3);
+        if let Some(latest) = self.latest.get_mut(i) {
+            *latest = value;
+        }
+        if let Some(peak) = self.peak.get_mut(i) {
+            *peak = (*peak).max(value);
         }
     }
 
@@ -102,15 +113,14 @@ impl AdcCollector {
     pub fn take(&mut self) -> AdcSample {
         // Field by field: a whole-struct copy becomes a call to a byte-copy loop on the
         // AVR, some 250 cycles a tick for 12 bytes.
-        let s = &mut self.sample;
-        let [c1, c2] = s.current;
-        let [p1, p2] = s.current_peak;
-        s.current_peak = [c1, c2];
+        let [c1, c2, ch6, ch7] = self.latest;
+        let [p1, p2] = self.peak;
+        self.peak = [c1, c2];
         AdcSample {
             current: [c1, c2],
             current_peak: [p1, p2],
-            ch6: s.ch6,
-            ch7: s.ch7,
+            ch6,
+            ch7,
         }
     }
 }
