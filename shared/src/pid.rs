@@ -197,7 +197,10 @@ impl Step {
     /// those of the rest). D need not be 0: the next D is 0, the measurement being the
     /// same (tested).
     pub fn rests(&self) -> bool {
-        self.error == Fix::ZERO && self.integral == Fix::ZERO && self.control == Fix::ZERO
+        // The three values' bits OR-ed, folded to 16 bits: 0 exactly when all are 0 (the
+        // AVR's 32-bit comparisons each materialise a flag).
+        let bits = (self.error.to_bits() | self.integral.to_bits() | self.control.to_bits()) as u32;
+        (bits as u16 | (bits >> 16) as u16) == 0
     }
 }
 
@@ -497,6 +500,42 @@ mod tests {
         }
         // Dead zone 0.5: the 7 equal pairs and the 8 a quarter apart; dead zone 0: the 7.
         assert_eq!(rests, 15 + 7);
+    }
+
+    #[test]
+    fn rests_is_every_one_of_error_integral_and_control_zero() {
+        // The form it replaced: three comparisons with 0. Bits in one half only, in both,
+        // the sign bit alone, and 0, in every combination of the three values.
+        let bits = [
+            0,
+            1,
+            -1,
+            0x8000,
+            0xffff,
+            0x1_0000,
+            0x7fff_0000,
+            i32::MIN,
+            i32::MAX,
+            0x0001_0001,
+        ];
+        let mut rests = 0;
+        for e in bits {
+            for i in bits {
+                for c in bits {
+                    let step = Step {
+                        error: Fix::from_bits(e),
+                        integral: Fix::from_bits(i),
+                        deriv: Fix::from_bits(e ^ c),
+                        control: Fix::from_bits(c),
+                        duty: Duty::IDLE,
+                    };
+                    let want = e == 0 && i == 0 && c == 0;
+                    assert_eq!(step.rests(), want, "{e:#x} {i:#x} {c:#x}");
+                    rests += usize::from(want);
+                }
+            }
+        }
+        assert_eq!(rests, 1);
     }
 
     #[test]

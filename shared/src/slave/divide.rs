@@ -123,7 +123,10 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
 /// on average, for 150–160 B less flash than a second reciprocal.
 #[inline(always)]
 pub fn div_1000(us: u32) -> u32 {
-    if us < 1 << 16 {
+    // `us < 2^16` as its two high bytes OR-ed: a one-byte test on the AVR, where the
+    // 32-bit comparison materialises a flag.
+    let [_, _, b2, b3] = us.to_le_bytes();
+    if b2 | b3 == 0 {
         // y = ⌊us/8⌋ < 2^13, and ⌊y/125⌋ = ⌊y·8389/2^20⌋ for every such y (tested
         // exhaustively), one 16×16-bit product whose high half is shifted.
         let y = (us as u16) >> 3;
@@ -172,7 +175,17 @@ mod tests {
         for us in 0..1u32 << 20 {
             assert_eq!(div_1000(us), us / 1000, "{us}");
         }
-        for us in [u32::MAX, 0x8000_0000, 4_294_967_000, 123_456_789] {
+        // Bits in the top byte only (the fast path's test ORs the two high bytes).
+        for us in [
+            u32::MAX,
+            0x8000_0000,
+            4_294_967_000,
+            123_456_789,
+            0x0100_0000,
+            0x0100_ffff,
+            0xff00_0000,
+            0xff00_03e7,
+        ] {
             assert_eq!(div_1000(us), us / 1000, "{us}");
         }
     }
