@@ -57,7 +57,7 @@ impl TwiSlave {
     #[inline]
     pub fn event(&self) -> Event {
         let status = self.twi.twsr().read().bits() & 0xf8;
-        // The status codes in ascending order, by range: the same event as the table of
+        // The status codes in descending order, by range: the same event as the table of
         // codes for each of the 32 values (checked at compile time below).
         match kind(status) {
             Kind::WriteStart => Event::WriteStart,
@@ -105,28 +105,29 @@ enum Kind {
     Other,
 }
 
-/// The event kind of a TWSR status (prescaler bits cleared), by range: a few compares
-/// where a table of codes takes a tree of them.
+/// The event kind of a TWSR status (prescaler bits cleared), by range from the top (the
+/// frequent read-more and data codes come early): a few compares where a table of codes
+/// takes a tree of them.
 #[inline(always)]
 const fn kind(status: u8) -> Kind {
-    if status < 0x60 {
-        if status == 0 {
-            Kind::BusError
+    if status >= 0xc0 {
+        if status < 0xd0 {
+            Kind::ReadEnd
         } else {
             Kind::Other
         }
-    } else if status < 0x80 {
-        Kind::WriteStart
-    } else if status < 0xa0 {
-        Kind::Data
-    } else if status == 0xa0 {
-        Kind::Stop
-    } else if status < 0xb8 {
-        Kind::ReadStart
     } else if status == 0xb8 {
         Kind::ReadMore
-    } else if status < 0xd0 {
-        Kind::ReadEnd
+    } else if status >= 0xa8 {
+        Kind::ReadStart
+    } else if status == 0xa0 {
+        Kind::Stop
+    } else if status >= 0x80 {
+        Kind::Data
+    } else if status >= 0x60 {
+        Kind::WriteStart
+    } else if status == 0 {
+        Kind::BusError
     } else {
         Kind::Other
     }
