@@ -11,7 +11,7 @@
 //! both values in turn.
 //!
 //! The ADC readings live in the same resource: the ADC task has the TWI task's
-//! priority, so the tick takes the readings, the change marks and the addressed flag
+//! priority, so the tick takes the readings, the written flag and the addressed flag
 //! under one lock.
 
 use shared::regs::id;

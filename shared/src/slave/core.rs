@@ -64,6 +64,9 @@ use crate::regs::{id, DS};
 pub const TICK_US: u32 = 1_000;
 /// The update period of the position controllers, µs.
 pub const POSITION_PERIOD_US: u32 = 2_000;
+// The 16-bit deadlines ([`due_every`]) keep `next` at most 2·period + a tick ahead: exact
+// only while that is below 2^15 µs.
+const _: () = assert!(2 * POSITION_PERIOD_US + TICK_US < 1 << 15);
 
 /// REGDS_CHASSIS: the raw ADC7 reading mapped over 0..1024.
 static CHASSIS: Mapping = Scale::of(&DS, id::REGDS_CHASSIS).mapping();
@@ -240,7 +243,7 @@ impl<B: Board> Core<B> {
     }
 
     /// Applies one register the bus wrote, as [`Core::take_writes`] does for each: for
-    /// firmware that takes the change marks and reads the registers one by one. The
+    /// firmware that takes one change mark and its register's value at a time. The
     /// caller clears REG_RESET in the file after reading it. Ignored without an address.
     #[inline(never)]
     pub fn apply(&mut self, reg: u8, raw: u16) {

@@ -67,7 +67,7 @@ impl CurrentFilter {
     /// f' = f ± p·|c − h| − ⌈p·l/256⌉, where each product is one 8×8-bit hardware
     /// multiply on the AVR, and the result is at most max(f, q), so no step wraps.
     ///
-    /// On the AVR, 21 instructions of assembly (LLVM made some 110 B of each copy);
+    /// On the AVR, 20 instructions of assembly (LLVM made some 110 B of each copy);
     /// elsewhere the same arithmetic in Rust, checked against the formula on every
     /// input. The emulator test `slave_maths` checks the assembly against the formula
     /// on every input too.

@@ -141,12 +141,6 @@ impl<B: Board> RegisterFile<B> {
         reg
     }
 
-    /// Takes every change mark at once, clearing them: the firmware takes them under its
-    /// lock and reads the registers one by one (see [`Changes`]).
-    pub fn take_changes(&mut self) -> Changes {
-        Changes(core::mem::replace(&mut self.changed, [0; MARK_BYTES]))
-    }
-
     /// Whether a register is marked changed.
     pub fn is_changed(&self, reg: u8) -> bool {
         match mark(reg) {
