@@ -1,6 +1,6 @@
 //! The runtime routines the compiler calls on its own, small enough for this chip:
-//! 32-bit division (`/` and `%` on `u32` and `i32`: `__udivmodsi4`, `__divmodsi4`) and
-//! block copies and fills (`memcpy`, `memset`).
+//! 32-bit division (`/` and `%` on `u32` and `i32`: `__udivmodsi4`, `__divmodsi4`, both
+//! through one loop, `drivers_udivmod32`) and block copies and fills (`memcpy`, `memset`).
 //!
 //! The toolchain's versions are generic: 1.4 KB of flash for the division and 0.5 KB for
 //! the copies, where these take about 190 bytes in all. The division is restoring long
@@ -10,8 +10,8 @@
 //! calling convention the compiler uses for it: arguments from r25 down, results in r25
 //! down (the division returns a `u64` in r18..r25 with the quotient in its low half and
 //! the remainder in its high half), only call-clobbered registers changed, r1 left at
-//! zero. Division by zero never gets here (Rust checks for it first); it would give all
-//! ones and the dividend.
+//! zero. Division by zero never gets here from `/` (Rust checks for it first); called
+//! directly (`shared::slave::divide::div_rem`) it gives all ones and the dividend.
 //!
 //! They are macros, expanded in each image's bin crate: assembly in a library crate
 //! reaches the link only through its bitcode, which is assembled without the chip's
@@ -22,13 +22,35 @@
 #[macro_export]
 macro_rules! division_routines {
     () => {
-        /// Unsigned `n / d` and `n % d`, packed (remainder in the high half).
+        /// Unsigned `n / d` and `n % d`, packed (remainder in the high half): the loop
+        /// below, its results moved to where the C calling convention wants them.
         #[no_mangle]
         // SAFETY: the body is a complete function in assembly that follows the C calling
         // convention: it reads its arguments from r18..r25, returns in r18..r25, clobbers only
         // call-clobbered registers (r18..r27, r30, r31) and leaves r1 at zero, as it found it.
         #[unsafe(naked)]
         pub extern "C" fn __udivmodsi4(n: u32, d: u32) -> u64 {
+            core::arch::naked_asm!(
+                "call drivers_udivmod32",
+                // Quotient to r18..r21, remainder to r22..r25.
+                "movw r18, r22",
+                "movw r20, r24",
+                "movw r22, r26",
+                "movw r24, r30",
+                "ret",
+            )
+        }
+
+        /// The one 32-bit division loop, in registers: n in r25..r22 and d in r21..r18 in;
+        /// the quotient in r25..r22 and the remainder in r31, r30, r27, r26 out. Changes
+        /// only those registers and SREG; r1 counts the steps and is zero again on return.
+        /// Called by [`__udivmodsi4`] and, on the slave, by `shared::slave::divide::div_rem`
+        /// straight from an inline `asm!` block (no moves, no stack frame).
+        #[no_mangle]
+        // SAFETY: a complete function in assembly; it touches only the registers named in
+        // its doc (all call-clobbered) and leaves r1 at zero, as it found it.
+        #[unsafe(naked)]
+        pub extern "C" fn drivers_udivmod32() {
             core::arch::naked_asm!(
                 // Remainder r26:r27:r30:r31 = 0; r1 (zero on entry and on exit) counts 32 steps.
                 "clr r26",
@@ -64,11 +86,6 @@ macro_rules! division_routines {
                 "3:",
                 "dec r1",
                 "brne 1b",
-                // Quotient to r18..r21, remainder to r22..r25.
-                "movw r18, r22",
-                "movw r20, r24",
-                "movw r22, r26",
-                "movw r24, r30",
                 "ret",
             )
         }

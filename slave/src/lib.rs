@@ -43,8 +43,10 @@ macro_rules! firmware {
     ($board:ident $(, $edge:ident, $encoder:ident)?) => {
         use $crate::shared_types::*;
 
-        // memcpy and memset, small (drivers::runtime).
+        // memcpy and memset, and the division `shared::slave::divide` calls, small
+        // (drivers::runtime).
         drivers::mem_routines!();
+        drivers::division_routines!();
 
         executor::app! {
             #[shared]

@@ -18,6 +18,7 @@
 //!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
 #![no_std]
 #![no_main]
+#![feature(asm_experimental_arch)]
 
 use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
@@ -27,6 +28,9 @@ use shared::slave::clock::count_ms;
 use shared::slave::current::CurrentFilter;
 use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
+
+// The division `div_rem` calls, as every slave image has it.
+drivers::division_routines!();
 
 /// Op 8's scales, by index: the monitoring ranges (±4000, ±1000, ±200, ±255, 0..1000),
 /// CHASSIS (0..1024), and one-byte ranges (±120, 0..50, 0..255): reciprocals from 16 to

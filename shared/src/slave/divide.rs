@@ -5,13 +5,12 @@
 //! the first tick, a late tick), so a 32-step shift-and-subtract loop of a few dozen
 //! bytes serves them all, with the same result as `/` and `%`.
 //!
-//! On the AVR the loop is written out in instructions (some 20 cycles a step, 650 a
-//! division): LLVM's code for the same loop takes some 75 cycles a step. It is one
-//! routine that takes and returns everything in registers, called from an inline
-//! `asm!` block: as a Rust function returning the pair it made each caller keep a stack
-//! frame to receive it (194 / 168 B more in the two slave images). The crate denies
-//! `unsafe`; this module allows it for that block, as `progmem` does for its flash
-//! reads.
+//! On the AVR that loop is the image's runtime division loop (`drivers_udivmod32` from
+//! `drivers::runtime`, some 20 cycles a step; LLVM's code for the same loop takes some 75),
+//! called from an inline `asm!` block with everything in registers: as a Rust function
+//! returning the pair it made each caller keep a stack frame to receive it (194 / 168 B
+//! more in the two slave images). The crate denies `unsafe`; this module allows it for
+//! that block, as `progmem` does for its flash reads.
 #![allow(unsafe_code)]
 
 #[cfg(target_arch = "avr")]
@@ -19,70 +18,27 @@ use super::words::{halves, join};
 
 use super::product::wide;
 
-// The division loop on the AVR, one routine with its operands and results in fixed
-// registers (n in r25..r22, d in r21..r18; the quotient in r25..r22, the remainder in
-// r31, r30, r27, r26), called from [`div_rem`]'s inline `asm!`: the pair comes back in
-// registers, where a Rust function returns it through memory, and each caller would
-// need a stack frame to receive it. The restoring division of the portable version
-// below, one quotient bit a step, counted in r0 (the scratch register, free in
-// assembly). A bit carried out of the remainder (only when d > 2^31) means it exceeds
-// d. With d = 0 every step subtracts 0 and sets its bit: (u32::MAX, n), with no test.
-#[cfg(target_arch = "avr")]
-core::arch::global_asm!(
-    ".pushsection .text.shared_slave_div_rem,\"ax\",@progbits",
-    ".global shared_slave_div_rem",
-    "shared_slave_div_rem:",
-    "ldi r26, 32",
-    "mov r0, r26",
-    "clr r26",
-    "clr r27",
-    "clr r30",
-    "clr r31",
-    "1:",
-    "lsl r22",
-    "rol r23",
-    "rol r24",
-    "rol r25",
-    "rol r26",
-    "rol r27",
-    "rol r30",
-    "rol r31",
-    "brcs 2f",
-    "cp r26, r18",
-    "cpc r27, r19",
-    "cpc r30, r20",
-    "cpc r31, r21",
-    "brcs 3f",
-    "2:",
-    "sub r26, r18",
-    "sbc r27, r19",
-    "sbc r30, r20",
-    "sbc r31, r21",
-    "inc r22",
-    "3:",
-    "dec r0",
-    "brne 1b",
-    "ret",
-    ".popsection",
-);
-
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
 ///
-/// On the AVR a call of the routine above, in line: a few moves into its registers.
+/// On the AVR a call of the image's runtime division loop, `drivers_udivmod32`
+/// (`drivers::runtime`, which every slave image and the fixture that checks this expand),
+/// in line: a few moves into its registers. The loop sets every quotient bit for d = 0,
+/// which gives `(u32::MAX, n)` with no test.
 #[cfg(target_arch = "avr")]
 #[inline(always)]
 pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
-    let (mut q_lo, mut q_hi) = halves(n);
+    let (mut n_lo, mut n_hi) = halves(n);
     let (d_lo, d_hi) = halves(d);
     let (r_lo, r_hi): (u16, u16);
-    // SAFETY: the routine touches only the registers named here, r0 (the scratch
-    // register) and SREG, and of memory only the stack, for its return address; it
-    // reads no memory and leaves r1 (the zero register) as it found it.
+    // SAFETY: the loop takes n in r25..r22 and d in r21..r18 and returns the quotient in
+    // r25..r22 and the remainder in X and Z; it changes only those and SREG, and of memory
+    // only the stack, for its return address; r1 (the zero register) is its counter and
+    // zero again on return.
     unsafe {
         core::arch::asm!(
-            "call shared_slave_div_rem",
-            inout("r23r22") q_lo,
-            inout("r25r24") q_hi,
+            "call drivers_udivmod32",
+            inout("r23r22") n_lo,
+            inout("r25r24") n_hi,
             in("r19r18") d_lo,
             in("r21r20") d_hi,
             out("X") r_lo,
@@ -90,7 +46,7 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
             options(pure, nomem),
         );
     }
-    (join(q_lo, q_hi), join(r_lo, r_hi))
+    (join(n_lo, n_hi), join(r_lo, r_hi))
 }
 
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
