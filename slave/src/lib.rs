@@ -26,6 +26,7 @@ pub mod bus;
 pub mod clock;
 pub mod encoder;
 mod panic;
+pub mod power_up;
 pub mod registers;
 pub mod sampler;
 pub mod stage;
@@ -84,14 +85,32 @@ macro_rules! firmware {
             #[task(binds = ADC, priority = 2, shared = [regs], local = [sampler])]
             fn sample;
 
-            // The logic is built at compile time (initial data, not stores at boot); the
-            // first tick gives it its address.
+            // The logic is zero bytes at reset (`.bss`), made the power-up core by `init`
+            // (`power_up`); the first tick gives it its address.
             #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock],
-                   local = [eeprom, stage], const_local = [core: Core<$board> = Core::<$board>::POWER_UP])]
+                   local = [eeprom, stage], const_local = [core: MaybeUninit<Core<$board>> = MaybeUninit::zeroed()])]
             fn control;
         }
 
+        /// The core's size, and its power-up bytes laid out at compile time.
+        const CORE_SIZE: usize = ::core::mem::size_of::<Core<$board>>();
+        const CORE_IMAGE: Image<CORE_SIZE> = Core::<$board>::POWER_UP
+            .image::<CORE_SIZE>()
+            .bytes_at(Core::<$board>::CLOCK_AT, &$crate::power_up::CLOCK);
+        // The image's bytes must be a valid core: checked at compile time.
+        const _: Core<$board> = $crate::power_up::read::<$board, CORE_SIZE>(*CORE_IMAGE.bytes());
+        flash_table! {
+            /// The core's nonzero power-up bytes as (step, byte) pairs, in flash.
+            static CORE_PAIRS: [[u8; 2]; CORE_IMAGE.len()] = CORE_IMAGE.pairs();
+        }
+
         fn init(cx: init::Context) -> (Shared, Local) {
+            // SAFETY: `init` runs once, before any task and with interrupts off, so the
+            // control task's core (zero bytes until now) has no other user; the pairs
+            // were made from its own type's power-up image.
+            unsafe {
+                $crate::power_up::write(control::__const_local::core.as_mut_ptr(), CORE_PAIRS.as_slice())
+            };
             let p = $crate::boot::init(cx.device, $board);
             (
                 Shared {
@@ -141,7 +160,8 @@ macro_rules! firmware {
             } else {
                 Default::default()
             };
-            let core = &mut *cx.local.core;
+            // SAFETY: `init` made it a valid core (`power_up::write`).
+            let core = unsafe { cx.local.core.assume_init_mut() };
             let byte = *cx.local.eeprom;
             if byte != 0 {
                 // The first tick only (a load and a branch on the others). A byte of 0
@@ -179,9 +199,12 @@ pub mod shared_types {
     pub use crate::registers::Registers;
     pub use crate::sampler::Sampler;
     pub use crate::stage::Stage;
+    pub use core::mem::MaybeUninit;
     pub use drivers::pcint::PortDChanges;
     pub use drivers::timebase::Timebase;
     pub use drivers::twi_slave::TwiSlave;
+    pub use shared::flash_table;
+    pub use shared::slave::image::Image;
     pub use shared::slave::{
         Board, Core, DriveSteerBoard, EdgeCounter, Inputs, LiftLiftBoard, Variant,
     };

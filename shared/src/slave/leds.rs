@@ -16,7 +16,9 @@
 
 use super::board::{MotorId, Variant};
 use super::divide::div_rem;
+use super::image::Image;
 use super::state::{Cause, State};
+use core::mem::offset_of;
 
 /// How long the address is shown after boot.
 pub const BOOT_DISPLAY_MS: u32 = 600;
@@ -136,6 +138,24 @@ impl Leds {
             latch: 0,
             valid_until: low(now_ms),
         }
+    }
+
+    /// These LEDs' bytes into `image` at `at` (see [`super::image`]): the deadlines and
+    /// the kept levels. The ping and the debug sources are set by [`Leds::clear_sources`]
+    /// instead: "none" is not zero bytes for the debug source (its LED's spare value).
+    pub(crate) const fn put<const N: usize>(&self, image: Image<N>, at: usize) -> Image<N> {
+        image
+            .u16(at + offset_of!(Leds, display_until), self.display_until)
+            .u16(at + offset_of!(Leds, heartbeat_at), self.heartbeat_at)
+            .byte(at + offset_of!(Leds, shown), self.shown)
+            .byte(at + offset_of!(Leds, latch), self.latch)
+            .u16(at + offset_of!(Leds, valid_until), self.valid_until)
+    }
+
+    /// No ping and no debug write pending, as [`Leds::new`] has it.
+    pub(crate) fn clear_sources(&mut self) {
+        self.ping_until = None;
+        self.debug = None;
     }
 
     /// [`Leds::new`] at `now_ms` for LEDs that `new` made and nothing has touched since

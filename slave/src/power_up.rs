@@ -1,0 +1,54 @@
+//! The core's power-up state from zeroed memory: the control task's core is a static of
+//! zero bytes (`.bss`, no flash), and `init` writes its few nonzero power-up bytes over
+//! it from a table in flash ([`shared::slave::image`]), where initial data (`.data`)
+//! would keep all of the core's bytes in flash.
+
+use core::mem::{size_of, MaybeUninit};
+use shared::progmem::Flash;
+use shared::slave::clock::Clock;
+use shared::slave::{Board, Core};
+
+/// A new clock's bytes, which [`Core::image`] leaves to the firmware (at
+/// [`Core::CLOCK_AT`]).
+pub const CLOCK: [u8; size_of::<Clock>()] =
+    // SAFETY: on the AVR every field is 1-aligned, so a struct has no padding; a clock
+    // holds integers and flags only. A byte that is not initialised (an option's unused
+    // payload, say) would stop the build here, not the board.
+    unsafe { core::mem::transmute::<Clock, [u8; size_of::<Clock>()]>(Clock::new()) };
+
+/// `bytes` (a core's [`Core::image`] with the clock's) read as a core of type `Core<B>`,
+/// for a constant: the compiler checks a constant's value, so the build fails unless
+/// they are a valid core, as [`write`] makes zeroed memory before
+/// [`Core::finish_power_up`] takes it as one.
+pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
+    assert!(N == size_of::<Core<B>>());
+    // SAFETY: the sizes are equal (asserted). Used only for a constant, whose value the
+    // compiler checks: invalid bytes stop the build (this is the check).
+    let core = unsafe { core::mem::transmute_copy::<[u8; N], MaybeUninit<Core<B>>>(&bytes) };
+    // SAFETY: as above.
+    unsafe { core.assume_init() }
+}
+
+/// Makes the zeroed core at `core` the power-up core: writes the (step, byte) `pairs`
+/// ([`shared::slave::image::Image::pairs`]) from its first byte, then the fields that
+/// [`Core::finish_power_up`] sets.
+///
+/// # Safety
+/// `core` points to a core's worth of zero bytes that nothing else accesses while this
+/// runs, and `pairs` were made for a core of that type from an image that [`check`]
+/// passed ([`read`] in a constant): their steps stay inside it and they make it a
+/// valid core.
+#[inline(always)]
+pub unsafe fn write<B: Board>(core: *mut MaybeUninit<Core<B>>, pairs: &'static Flash<[[u8; 2]]>) {
+    let mut at = core.cast::<u8>();
+    for [step, byte] in pairs.iter() {
+        // SAFETY: per the contract, each step stays inside the core, which this
+        // function alone accesses.
+        unsafe {
+            at = at.add(usize::from(step));
+            at.write(byte);
+        }
+    }
+    // SAFETY: per the contract, the pairs made a valid core, which nothing else accesses.
+    unsafe { (*core).assume_init_mut().finish_power_up() };
+}
