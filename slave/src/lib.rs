@@ -62,7 +62,6 @@ macro_rules! firmware {
                 twi_port: TwiSlave,
                 sampler: Sampler,
                 $($encoder: Encoder,)?
-                eeprom: u8,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -86,9 +85,9 @@ macro_rules! firmware {
             fn sample;
 
             // The logic is zero bytes at reset (`.bss`), made the power-up core by `init`
-            // (`power_up`); the first tick gives it its address.
+            // (`power_up`), with its address.
             #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock],
-                   local = [eeprom, stage], const_local = [core: MaybeUninit<Core<$board>> = MaybeUninit::zeroed()])]
+                   local = [stage], const_local = [core: MaybeUninit<Core<$board>> = MaybeUninit::zeroed()])]
             fn control;
         }
 
@@ -105,13 +104,17 @@ macro_rules! firmware {
         }
 
         fn init(cx: init::Context) -> (Shared, Local) {
+            let p = $crate::boot::init(cx.device, $board);
             // SAFETY: `init` runs once, before any task and with interrupts off, so the
             // control task's core (zero bytes until now) has no other user; the pairs
-            // were made from its own type's power-up image.
+            // were made from its own type's power-up image, which `read` checked.
             unsafe {
-                $crate::power_up::write(control::__const_local::core.as_mut_ptr(), CORE_PAIRS.as_slice())
+                $crate::power_up::write(
+                    control::__const_local::core.as_mut_ptr(),
+                    CORE_PAIRS.as_slice(),
+                    p.eeprom_byte,
+                )
             };
-            let p = $crate::boot::init(cx.device, $board);
             (
                 Shared {
                     regs: p.regs,
@@ -122,7 +125,6 @@ macro_rules! firmware {
                     twi_port: p.twi,
                     sampler: p.sampler,
                     $($encoder: p.$encoder,)?
-                    eeprom: p.eeprom_byte,
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -162,13 +164,6 @@ macro_rules! firmware {
             };
             // SAFETY: `init` made it a valid core (`power_up::write`).
             let core = unsafe { cx.local.core.assume_init_mut() };
-            let byte = *cx.local.eeprom;
-            if byte != 0 {
-                // The first tick only (a load and a branch on the others). A byte of 0
-                // gives no address, as the power-up logic has: nothing to set.
-                core.set_eeprom(byte);
-                *cx.local.eeprom = 0;
-            }
             // One lock for everything the priority-2 tasks fill.
             let (adc, written, addressed) = cx
                 .shared

@@ -29,9 +29,10 @@ pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
     unsafe { core.assume_init() }
 }
 
-/// Makes the zeroed core at `core` the power-up core: writes the (step, byte) `pairs`
-/// ([`shared::slave::image::Image::pairs`]) from its first byte, then the fields that
-/// [`Core::finish_power_up`] sets.
+/// Makes the zeroed core at `core` the power-up core of a board whose EEPROM byte 0 is
+/// `eeprom_byte`: writes the (step, byte) `pairs` ([`shared::slave::image::Image::pairs`])
+/// from its first byte, then the fields that [`Core::finish_power_up`] sets, then the
+/// address ([`Core::set_eeprom`]).
 ///
 /// # Safety
 /// `core` points to a core's worth of zero bytes that nothing else accesses while this
@@ -39,7 +40,11 @@ pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
 /// passed ([`read`] in a constant): their steps stay inside it and they make it a
 /// valid core.
 #[inline(always)]
-pub unsafe fn write<B: Board>(core: *mut MaybeUninit<Core<B>>, pairs: &'static Flash<[[u8; 2]]>) {
+pub unsafe fn write<B: Board>(
+    core: *mut MaybeUninit<Core<B>>,
+    pairs: &'static Flash<[[u8; 2]]>,
+    eeprom_byte: u8,
+) {
     let mut at = core.cast::<u8>();
     for [step, byte] in pairs.iter() {
         // SAFETY: per the contract, each step stays inside the core, which this
@@ -50,5 +55,7 @@ pub unsafe fn write<B: Board>(core: *mut MaybeUninit<Core<B>>, pairs: &'static F
         }
     }
     // SAFETY: per the contract, the pairs made a valid core, which nothing else accesses.
-    unsafe { (*core).assume_init_mut().finish_power_up() };
+    let core = unsafe { (*core).assume_init_mut() };
+    core.finish_power_up();
+    core.set_eeprom(eeprom_byte);
 }
