@@ -96,7 +96,9 @@ macro_rules! firmware {
         const CORE_IMAGE: Image<CORE_SIZE> = Core::<$board>::POWER_UP
             .image::<CORE_SIZE>()
             .bytes_at(Core::<$board>::CLOCK_AT, &$crate::power_up::CLOCK);
-        // The image's bytes must be a valid core: checked at compile time.
+        // The image's bytes must be a valid core, in 1..=256 pairs (the writer's count):
+        // checked at compile time.
+        const _: () = assert!(CORE_IMAGE.len() >= 1 && CORE_IMAGE.len() <= 256);
         const _: Core<$board> = $crate::power_up::read::<$board, CORE_SIZE>(*CORE_IMAGE.bytes());
         flash_table! {
             /// The core's nonzero power-up bytes as (step, byte) pairs, in flash.

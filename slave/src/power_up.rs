@@ -6,6 +6,7 @@
 use core::mem::{size_of, MaybeUninit};
 use shared::progmem::Flash;
 use shared::slave::clock::Clock;
+use shared::slave::image::apply_from_flash;
 use shared::slave::{Board, Core};
 
 /// A new clock's bytes, which [`Core::image`] leaves to the firmware (at
@@ -36,8 +37,8 @@ pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
 ///
 /// # Safety
 /// `core` points to a core's worth of zero bytes that nothing else accesses while this
-/// runs, and `pairs` were made for a core of that type from an image that [`check`]
-/// passed ([`read`] in a constant): their steps stay inside it and they make it a
+/// runs, and `pairs` (1..=256 of them) were made for a core of that type from an image
+/// that [`read`] passed in a constant: their steps stay inside it and they make it a
 /// valid core.
 #[inline(always)]
 pub unsafe fn write<B: Board>(
@@ -45,15 +46,9 @@ pub unsafe fn write<B: Board>(
     pairs: &'static Flash<[[u8; 2]]>,
     eeprom_byte: u8,
 ) {
-    let mut at = core.cast::<u8>();
-    for [step, byte] in pairs.iter() {
-        // SAFETY: per the contract, each step stays inside the core, which this
-        // function alone accesses.
-        unsafe {
-            at = at.add(usize::from(step));
-            at.write(byte);
-        }
-    }
+    // SAFETY: per the contract, the pairs (1..=256 of them: checked where the table is
+    // built) stay inside the core, which this function alone accesses.
+    unsafe { apply_from_flash(pairs, core.cast::<u8>()) };
     // SAFETY: per the contract, the pairs made a valid core, which nothing else accesses.
     let core = unsafe { (*core).assume_init_mut() };
     core.finish_power_up();

@@ -6,13 +6,17 @@
 //! would cost all of them in flash. [`Image`] lays those bytes out at compile time, at
 //! the target's own field offsets (`offset_of!`), and [`Image::pairs`] turns them into
 //! (step, byte) pairs: the write pointer moves on by `step` bytes, then stores `byte`.
-//! [`apply`] is that loop on the host (the firmware runs its own over a flash table).
+//! [`apply`] is that loop; the firmware runs [`apply_from_flash`], the same in seven
+//! instructions a pair over a table in flash.
 
 /// `N` bytes being laid out at compile time, all zero to begin with.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct Image<const N: usize> {
     bytes: [u8; N],
 }
+
+#[cfg(target_arch = "avr")]
+use crate::progmem::Flash;
 
 /// The longest step one pair takes: a longer gap between two nonzero bytes takes a pair
 /// that stores a zero on the way (harmless: the memory is zero).
@@ -129,6 +133,41 @@ pub fn apply(pairs: &[[u8; 2]], memory: &mut [u8]) {
     for &[step, byte] in pairs {
         at += usize::from(step);
         memory[at] = byte;
+    }
+}
+
+/// [`apply`] of `pairs` kept in flash ([`crate::flash_table!`]), from `memory`: seven
+/// instructions a pair (two `LPM`, an add with carry to the pointer, a store, a count
+/// down). On the AVR only: [`apply`] is the same walk on the host, and
+/// `fixture_slave_maths` checks this one against it on the chip.
+///
+/// # Safety
+/// `pairs` has 1..=256 pairs, and `memory` is the start of memory that nothing else
+/// accesses while this runs, where every step stays ([`Image::pairs`] of an image of
+/// it); the bytes written must make it what its users take it for.
+#[cfg(target_arch = "avr")]
+#[allow(unsafe_code)]
+#[inline(always)]
+pub unsafe fn apply_from_flash(pairs: &'static Flash<[[u8; 2]]>, memory: *mut u8) {
+    // SAFETY: LPM reads only flash, at Z (the table, per `flash_table!`); each store is
+    // inside `memory`, per the contract; the count, 1..=256 pairs (256 as 0), ends the
+    // loop. X, Z and the count's register are declared clobbered; r1 stays zero.
+    unsafe {
+        core::arch::asm!(
+            "1:",
+            "lpm {byte}, Z+",
+            "add r26, {byte}",
+            "adc r27, r1",
+            "lpm {byte}, Z+",
+            "st X, {byte}",
+            "dec {count}",
+            "brne 1b",
+            byte = out(reg) _,
+            count = inout(reg) pairs.len() as u8 => _,
+            inout("Z") (pairs as *const Flash<[[u8; 2]]>).cast::<u8>() => _,
+            inout("X") memory => _,
+            options(nostack),
+        );
     }
 }
 
