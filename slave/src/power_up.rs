@@ -19,8 +19,7 @@ pub const CLOCK: [u8; size_of::<Clock>()] =
 
 /// `bytes` (a core's [`Core::image`] with the clock's) read as a core of type `Core<B>`,
 /// for a constant: the compiler checks a constant's value, so the build fails unless
-/// they are a valid core, as [`write`] makes zeroed memory before
-/// [`Core::finish_power_up`] takes it as one.
+/// they are a valid core, as [`write`] makes zeroed memory and takes it for one.
 pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
     assert!(N == size_of::<Core<B>>());
     // SAFETY: the sizes are equal (asserted). Used only for a constant, whose value the
@@ -32,8 +31,7 @@ pub const fn read<B: Board, const N: usize>(bytes: [u8; N]) -> Core<B> {
 
 /// Makes the zeroed core at `core` the power-up core of a board whose EEPROM byte 0 is
 /// `eeprom_byte`: writes the (step, byte) `pairs` ([`shared::slave::image::Image::pairs`])
-/// from its first byte, then the fields that [`Core::finish_power_up`] sets, then the
-/// address ([`Core::set_eeprom`]).
+/// from its first byte, then the address ([`Core::set_eeprom`]).
 ///
 /// # Safety
 /// `core` points to a core's worth of zero bytes that nothing else accesses while this
@@ -50,7 +48,5 @@ pub unsafe fn write<B: Board>(
     // built) stay inside the core, which this function alone accesses.
     unsafe { apply_from_flash(pairs, core.cast::<u8>()) };
     // SAFETY: per the contract, the pairs made a valid core, which nothing else accesses.
-    let core = unsafe { (*core).assume_init_mut() };
-    core.finish_power_up();
-    core.set_eeprom(eeprom_byte);
+    unsafe { (*core).assume_init_mut() }.set_eeprom(eeprom_byte);
 }

@@ -184,12 +184,11 @@ impl<B: Board> Core<B> {
 
     /// This power-up core's bytes for zeroed memory (see [`super::image`]), `N` its size:
     /// the state's ([`State::POWER_UP_BYTES`]) and each field that may be nonzero at
-    /// power-up, but for two kinds: the clock's, whose fields are private to its module
-    /// (the firmware lays out a whole [`Clock::new`] at [`Core::CLOCK_AT`]), and those
-    /// that [`Core::finish_power_up`] sets, whose "none" is not zero bytes. The other
-    /// fields are zero at power-up: the host test checks that zeroed memory, this image,
-    /// a new clock and `finish_power_up` make `Core::POWER_UP`, field for field, and
-    /// the firmware that these bytes are a valid core, at compile time.
+    /// power-up but the clock's, whose fields are private to its module (the firmware
+    /// lays out a whole [`Clock::new`] at [`Core::CLOCK_AT`]). The other fields are zero
+    /// at power-up: the host test checks that zeroed memory, this image and a new clock
+    /// make `Core::POWER_UP`, field for field, and the firmware that these bytes are a
+    /// valid core, at compile time.
     pub const fn image<const N: usize>(&self) -> Image<N> {
         assert!(N == size_of::<Core<B>>(), "N must be the core's size");
         let motors = offset_of!(Core<B>, motors);
@@ -210,12 +209,6 @@ impl<B: Board> Core<B> {
         let image = self.leds.put(image, offset_of!(Core<B>, leds));
         let image = self.motors[0].put(image, motors);
         self.motors[1].put(image, motors + size_of::<Motor>())
-    }
-
-    /// The fields of a core made from zeroed memory and [`Core::image`] that are not
-    /// yet as at power-up: no LED ping or debug write.
-    pub fn finish_power_up(&mut self) {
-        self.leds.clear_sources();
     }
 
     /// The I2C address to listen on, or `None`: then the TWI must stay off.
@@ -631,8 +624,8 @@ mod tests {
         assert_eq!(core.motor(MotorId::M1).kind, Kind::Drive);
     }
 
-    /// Zeroed memory with `B`'s power-up image written over it, a new clock and
-    /// [`Core::finish_power_up`]: as the firmware makes its core at boot.
+    /// Zeroed memory with `B`'s power-up image and a new clock written over it: as the
+    /// firmware makes its core at boot.
     #[allow(unsafe_code)]
     fn from_zeros<B: Board, const N: usize>(image: &Image<N>) -> Core<B> {
         assert_eq!(N, size_of::<Core<B>>());
@@ -647,7 +640,6 @@ mod tests {
         // the image writes, as it writes whole fields' values over the others).
         let mut core = unsafe { memory.assume_init() };
         core.clock = Clock::new();
-        core.finish_power_up();
         core
     }
 
