@@ -231,8 +231,9 @@ pub struct Monitors {
     pub interval_ms: u16,
 }
 
-/// [`Motor::angle`] has no reading: above any the ADC gives.
-const NO_READING: u16 = u16::MAX;
+/// [`Motor::angle`] has no reading: above any the ADC gives (the first such value, with
+/// one nonzero byte where `u16::MAX` had two: the power-up core's image is the shorter).
+const NO_READING: u16 = ADC_MAX + 1;
 
 /// Raw 0 in a symmetric range.
 const MID: u16 = 0x7fff;
