@@ -35,6 +35,7 @@ pub mod current;
 pub mod divide;
 pub mod encoder;
 pub mod fault;
+pub mod image;
 pub mod io;
 pub mod leds;
 pub mod motor;

@@ -40,8 +40,8 @@ pub struct Parts<B: Board> {
     pub sampler: Sampler,
     /// The encoder pins.
     pub encoder: Encoder,
-    /// EEPROM byte 0, the board's address: the control task hands it to the logic, which
-    /// is built at compile time.
+    /// EEPROM byte 0, the board's address: `init` hands it to the logic
+    /// ([`crate::power_up::write`]).
     pub eeprom_byte: u8,
     /// Pins, PWM and watchdog.
     pub stage: Stage,

@@ -26,6 +26,7 @@ pub mod bus;
 pub mod clock;
 pub mod encoder;
 mod panic;
+pub mod power_up;
 pub mod registers;
 pub mod sampler;
 pub mod stage;
@@ -61,7 +62,6 @@ macro_rules! firmware {
                 twi_port: TwiSlave,
                 sampler: Sampler,
                 $($encoder: Encoder,)?
-                eeprom: u8,
                 stage: Stage,
                 _timebase: Timebase,
                 _changes: PortDChanges,
@@ -84,15 +84,39 @@ macro_rules! firmware {
             #[task(binds = ADC, priority = 2, shared = [regs], local = [sampler])]
             fn sample;
 
-            // The logic is built at compile time (initial data, not stores at boot); the
-            // first tick gives it its address.
+            // The logic is zero bytes at reset (`.bss`), made the power-up core by `init`
+            // (`power_up`), with its address.
             #[task(binds = TIMER0_COMPB, priority = 1, shared = [regs, edges, clock],
-                   local = [eeprom, stage], const_local = [core: Core<$board> = Core::<$board>::POWER_UP])]
+                   local = [stage], const_local = [core: MaybeUninit<Core<$board>> = MaybeUninit::zeroed()])]
             fn control;
+        }
+
+        /// The core's size, and its power-up bytes laid out at compile time.
+        const CORE_SIZE: usize = ::core::mem::size_of::<Core<$board>>();
+        const CORE_IMAGE: Image<CORE_SIZE> = Core::<$board>::POWER_UP
+            .image::<CORE_SIZE>()
+            .bytes_at(Core::<$board>::CLOCK_AT, &$crate::power_up::CLOCK);
+        // The image's bytes must be a valid core, in 1..=256 pairs (the writer's count):
+        // checked at compile time.
+        const _: () = assert!(CORE_IMAGE.len() >= 1 && CORE_IMAGE.len() <= 256);
+        const _: Core<$board> = $crate::power_up::read::<$board, CORE_SIZE>(*CORE_IMAGE.bytes());
+        flash_table! {
+            /// The core's nonzero power-up bytes as (step, byte) pairs, in flash.
+            static CORE_PAIRS: [[u8; 2]; CORE_IMAGE.len()] = CORE_IMAGE.pairs();
         }
 
         fn init(cx: init::Context) -> (Shared, Local) {
             let p = $crate::boot::init(cx.device, $board);
+            // SAFETY: `init` runs once, before any task and with interrupts off, so the
+            // control task's core (zero bytes until now) has no other user; the pairs
+            // were made from its own type's power-up image, which `read` checked.
+            unsafe {
+                $crate::power_up::write(
+                    control::__const_local::core.as_mut_ptr(),
+                    CORE_PAIRS.as_slice(),
+                    p.eeprom_byte,
+                )
+            };
             (
                 Shared {
                     regs: p.regs,
@@ -103,7 +127,6 @@ macro_rules! firmware {
                     twi_port: p.twi,
                     sampler: p.sampler,
                     $($encoder: p.$encoder,)?
-                    eeprom: p.eeprom_byte,
                     stage: p.stage,
                     _timebase: p.timebase,
                     _changes: p.changes,
@@ -141,14 +164,8 @@ macro_rules! firmware {
             } else {
                 Default::default()
             };
-            let core = &mut *cx.local.core;
-            let byte = *cx.local.eeprom;
-            if byte != 0 {
-                // The first tick only (a load and a branch on the others). A byte of 0
-                // gives no address, as the power-up logic has: nothing to set.
-                core.set_eeprom(byte);
-                *cx.local.eeprom = 0;
-            }
+            // SAFETY: `init` made it a valid core (`power_up::write`).
+            let core = unsafe { cx.local.core.assume_init_mut() };
             // One lock for everything the priority-2 tasks fill.
             let (adc, written, addressed) = cx
                 .shared
@@ -179,9 +196,12 @@ pub mod shared_types {
     pub use crate::registers::Registers;
     pub use crate::sampler::Sampler;
     pub use crate::stage::Stage;
+    pub use core::mem::MaybeUninit;
     pub use drivers::pcint::PortDChanges;
     pub use drivers::timebase::Timebase;
     pub use drivers::twi_slave::TwiSlave;
+    pub use shared::flash_table;
+    pub use shared::slave::image::Image;
     pub use shared::slave::{
         Board, Core, DriveSteerBoard, EdgeCounter, Inputs, LiftLiftBoard, Variant,
     };

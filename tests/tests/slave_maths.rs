@@ -4,7 +4,8 @@
 //! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
 //! on every pair of corner values and on pseudo-random operands of every width, the
 //! monitoring values' mapping (`shared::slave::scale`) by nine scales, the current
-//! filter's step on every input and the clock's count of whole ms, each checked against
+//! filter's step on every input, the clock's count of whole ms and the power-up writer
+//! (`shared::slave::image::apply_from_flash`) over a sparse image, each checked against
 //! the host's own arithmetic (written out here, or the host build's). The host builds of these
 //! functions are plain Rust, so only this test shows the assembly right.
 
@@ -349,4 +350,37 @@ fn clock_count_of_whole_ms_matches_the_host() {
     assert_eq!((want_next, want_ms), (706, 4_294_968));
     assert_eq!(cases, 5 * 27 * 4);
     assert!(wrapped > 50, "{wrapped}");
+}
+
+/// The fixture's op-20 image, byte `i` (as `fixture_slave_maths` has it).
+fn sample_byte(i: usize) -> u8 {
+    if (i < 120 && i % 3 == 0) || i == 400 || i == 599 {
+        (i * 37 % 255 + 1) as u8
+    } else {
+        0
+    }
+}
+
+#[test]
+fn power_up_writer_matches_the_host_over_a_sparse_image() {
+    use shared::slave::image::{apply, Image};
+    let want: Vec<u8> = (0..600).map(sample_byte).collect();
+    let image = Image::<600>::ZERO.bytes_at(0, &want);
+    let mut pairs = vec![[0u8; 2]; image.len()];
+    image.fill(&mut pairs);
+    // 40 + 2 bytes, and one pair that stores a zero on the way to byte 400.
+    assert_eq!(pairs.len(), 43);
+    assert_eq!(pairs[0], [0, 1]);
+    assert_eq!(pairs[40], [255, 0]);
+    let mut host = vec![0u8; 600];
+    apply(&pairs, &mut host);
+    assert_eq!(host, want);
+    let mut avr = fixture();
+    let mut got = Vec::new();
+    for at in (0..600).step_by(8) {
+        let (x, y) = request(&mut avr, 20, at, 0);
+        got.extend(x.to_le_bytes());
+        got.extend(y.to_le_bytes());
+    }
+    assert_eq!(got, want);
 }

@@ -15,7 +15,9 @@
 //!   whole ms, and the ms count;
 //! - op 10: the current filter's step (`current::CurrentFilter::push`) of the sample
 //!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
-//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
+//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum;
+//! - op 20: the pairs of [`SAMPLE`] (in flash) written over 600 zero bytes by
+//!   `image::apply_from_flash` (the slave's power-up writer): bytes a..a + 8 of them.
 #![no_std]
 #![no_main]
 #![feature(asm_experimental_arch)]
@@ -26,6 +28,7 @@ use shared::pid::{sum, Fix};
 use shared::regs::{id, DS};
 use shared::slave::clock::count_ms;
 use shared::slave::current::CurrentFilter;
+use shared::slave::image::{apply_from_flash, Image};
 use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
 
@@ -61,6 +64,48 @@ fn filter_sweep(c: u8) -> (u32, u32) {
     (hash, sum)
 }
 
+/// Op 20's image: 600 bytes, nonzero on every third of the first 120 (from byte 0), at
+/// 400 (after a gap longer than a step: a pair that stores a zero on the way) and at 599.
+const fn sample_byte(i: usize) -> u8 {
+    if (i < 120 && i % 3 == 0) || i == 400 || i == 599 {
+        (i * 37 % 255 + 1) as u8
+    } else {
+        0
+    }
+}
+
+/// [`sample_byte`]'s 600 bytes.
+const SAMPLE: Image<600> = {
+    let mut image = Image::ZERO;
+    let mut i = 0;
+    while i < 600 {
+        image = image.byte(i, sample_byte(i));
+        i += 1;
+    }
+    image
+};
+
+shared::flash_table! {
+    /// [`SAMPLE`]'s pairs, in flash as the slave's power-up pairs are.
+    static SAMPLE_PAIRS: [[u8; 2]; SAMPLE.len()] = SAMPLE.pairs();
+}
+
+/// Op 20: [`SAMPLE_PAIRS`] written over zeros, bytes `at..at + 8`.
+fn written_sample(at: usize) -> (u32, u32) {
+    let mut memory = [0u8; 600];
+    // SAFETY: the pairs (43) were made for these 600 bytes, borrowed here only.
+    unsafe { apply_from_flash(SAMPLE_PAIRS.as_slice(), black_box(memory.as_mut_ptr())) };
+    let mut bytes = [0u8; 8];
+    for (k, b) in bytes.iter_mut().enumerate() {
+        *b = memory.get(at + k).copied().unwrap_or(0xff);
+    }
+    let [b0, b1, b2, b3, b4, b5, b6, b7] = bytes;
+    (
+        u32::from_le_bytes([b0, b1, b2, b3]),
+        u32::from_le_bytes([b4, b5, b6, b7]),
+    )
+}
+
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
@@ -90,6 +135,7 @@ fn main() -> ! {
                 (u32::from(to_next), ms)
             }
             10 => filter_sweep(a as u8),
+            20 => written_sample(a as usize),
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);

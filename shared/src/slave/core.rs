@@ -50,6 +50,7 @@ use super::board::{
 use super::clock::{self, Clock};
 use super::encoder::{DriveMode, Odometer, SpeedMeter};
 use super::fault::FAULT_TIME_POWER_ON_MS;
+use super::image::Image;
 use super::io::{Inputs, MotorOutput, Outputs, Watchdog};
 use super::leds::{self, LedLevels, Leds};
 use super::motor::{Kind, Motor, UpdateContext};
@@ -59,6 +60,7 @@ use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
 use super::state::{Cause, Event, LocalFault, ResetBits, State};
 use crate::pid::Fix;
 use crate::regs::{id, DS};
+use core::mem::{offset_of, size_of};
 
 /// The tick period the firmware must keep, µs.
 pub const TICK_US: u32 = 1_000;
@@ -119,8 +121,8 @@ pub struct Core<B: Board = Variant> {
 
 impl Core<DriveSteerBoard> {
     /// A drive/steer board at power-up without its address ([`Core::set_eeprom`] sets
-    /// it): built at compile time, so the firmware keeps it as initial data rather than
-    /// storing it field by field at boot.
+    /// it): built at compile time, so the firmware keeps only its nonzero bytes
+    /// ([`Core::image`]) and writes them over zeroed memory at boot.
     pub const POWER_UP: Core<DriveSteerBoard> =
         Core::build(DriveSteerBoard, Variant::DriveSteer, None);
 }
@@ -174,6 +176,39 @@ impl<B: Board> Core<B> {
                 debug_led: 0,
             },
         }
+    }
+
+    /// Where the core's clock is: the firmware adds the clock's power-up bytes there
+    /// (see [`Core::image`]).
+    pub const CLOCK_AT: usize = offset_of!(Core<B>, clock);
+
+    /// This power-up core's bytes for zeroed memory (see [`super::image`]), `N` its size:
+    /// the state's ([`State::POWER_UP_BYTES`]) and each field that may be nonzero at
+    /// power-up but the clock's, whose fields are private to its module (the firmware
+    /// lays out a whole [`Clock::new`] at [`Core::CLOCK_AT`]). The other fields are zero
+    /// at power-up: the host test checks that zeroed memory, this image and a new clock
+    /// make `Core::POWER_UP`, field for field, and the firmware that these bytes are a
+    /// valid core, at compile time.
+    pub const fn image<const N: usize>(&self) -> Image<N> {
+        assert!(N == size_of::<Core<B>>(), "N must be the core's size");
+        let motors = offset_of!(Core<B>, motors);
+        let pending = offset_of!(Core<B>, pending);
+        assert!(matches!(self.state, State::Exception(Cause::Boot)));
+        let image = Image::ZERO
+            .bytes_at(offset_of!(Core<B>, state), &State::POWER_UP_BYTES)
+            .u16(offset_of!(Core<B>, disabled), self.disabled)
+            .u16(offset_of!(Core<B>, fault_time_ms), self.fault_time_ms)
+            .u16(offset_of!(Core<B>, bus_timeout_ms), self.bus_timeout_ms)
+            .byte(offset_of!(Core<B>, drive_mode), self.drive_mode as u8)
+            .u16(offset_of!(Core<B>, chassis), self.chassis)
+            .byte(pending + offset_of!(Pending, flags), self.pending.flags)
+            .byte(
+                pending + offset_of!(Pending, debug_led),
+                self.pending.debug_led,
+            );
+        let image = self.leds.put(image, offset_of!(Core<B>, leds));
+        let image = self.motors[0].put(image, motors);
+        self.motors[1].put(image, motors + size_of::<Motor>())
     }
 
     /// The I2C address to listen on, or `None`: then the TWI must stay off.
@@ -587,6 +622,67 @@ mod tests {
         }
         let core = Core::new(Variant::DriveSteer, 3);
         assert_eq!(core.motor(MotorId::M1).kind, Kind::Drive);
+    }
+
+    /// Zeroed memory with `B`'s power-up image and a new clock written over it: as the
+    /// firmware makes its core at boot.
+    #[allow(unsafe_code)]
+    fn from_zeros<B: Board, const N: usize>(image: &Image<N>) -> Core<B> {
+        assert_eq!(N, size_of::<Core<B>>());
+        let mut pairs = vec![[0u8; 2]; image.len()];
+        image.fill(&mut pairs);
+        let mut memory = core::mem::MaybeUninit::<Core<B>>::zeroed();
+        // SAFETY: the N bytes of `memory`, all initialised (zero), borrowed once.
+        let bytes = unsafe { std::slice::from_raw_parts_mut(memory.as_mut_ptr().cast::<u8>(), N) };
+        super::super::image::apply(&pairs, bytes);
+        // SAFETY: the image's bytes are a valid core: the firmware checks that at compile
+        // time (every field of a core is valid as zero bytes but the state, whose bytes
+        // the image writes, as it writes whole fields' values over the others).
+        let mut core = unsafe { memory.assume_init() };
+        core.clock = Clock::new();
+        core
+    }
+
+    #[test]
+    fn the_power_up_image_over_zeros_makes_the_power_up_core_field_for_field() {
+        const DS_SIZE: usize = size_of::<Core<DriveSteerBoard>>();
+        const LL_SIZE: usize = size_of::<Core<LiftLiftBoard>>();
+        let drive = Core::<DriveSteerBoard>::POWER_UP;
+        let lift = Core::<LiftLiftBoard>::POWER_UP;
+        // The firmware lays out a new clock's bytes: the power-up cores have one.
+        assert_eq!(format!("{:?}", drive.clock), format!("{:?}", Clock::new()));
+        assert_eq!(format!("{:?}", lift.clock), format!("{:?}", Clock::new()));
+        let drive_image = drive.image::<DS_SIZE>();
+        assert_eq!(
+            format!("{:?}", from_zeros::<DriveSteerBoard, DS_SIZE>(&drive_image)),
+            format!("{drive:?}")
+        );
+        let lift_image = lift.image::<LL_SIZE>();
+        assert_eq!(
+            format!("{:?}", from_zeros::<LiftLiftBoard, LL_SIZE>(&lift_image)),
+            format!("{lift:?}")
+        );
+        // Not so with the state's bytes alone: the thresholds, the steer's kind, the LED
+        // deadlines... are not 0.
+        let state_only = Image::ZERO.bytes_at(
+            offset_of!(Core<DriveSteerBoard>, state),
+            &State::POWER_UP_BYTES,
+        );
+        assert_ne!(
+            format!("{:?}", from_zeros::<DriveSteerBoard, DS_SIZE>(&state_only)),
+            format!("{drive:?}")
+        );
+        // The drive's kind (0) and the steer's (1): the image has the steer's only.
+        let motors = offset_of!(Core<DriveSteerBoard>, motors);
+        let kind = offset_of!(Motor, kind);
+        let bytes = drive_image.bytes();
+        assert_eq!(bytes[motors + kind], 0);
+        assert_eq!(bytes[motors + size_of::<Motor>() + kind], 1);
+        let fault_time = offset_of!(Core<DriveSteerBoard>, fault_time_ms);
+        assert_eq!(
+            bytes[fault_time..fault_time + 2],
+            FAULT_TIME_POWER_ON_MS.to_le_bytes()
+        );
     }
 
     #[test]

@@ -16,7 +16,9 @@
 
 use super::board::{MotorId, Variant};
 use super::divide::div_rem;
+use super::image::Image;
 use super::state::{Cause, State};
+use core::mem::offset_of;
 
 /// How long the address is shown after boot.
 pub const BOOT_DISPLAY_MS: u32 = 600;
@@ -66,13 +68,16 @@ const LED1: Mask = 1;
 /// LED2's bit.
 const LED2: Mask = 2;
 
-/// One of the two LEDs.
+/// One of the two LEDs, its discriminant its bit in a [`Mask`]: no LED is 0, so the
+/// zero bytes of an `Option<(Led, _)>` are `None` (the firmware's core starts as zero
+/// bytes: see [`super::image`]).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
 pub enum Led {
     /// LED1, on A2.
-    Led1,
+    Led1 = LED1,
     /// LED2, on A3.
-    Led2,
+    Led2 = LED2,
 }
 
 impl Led {
@@ -136,6 +141,18 @@ impl Leds {
             latch: 0,
             valid_until: low(now_ms),
         }
+    }
+
+    /// These LEDs' bytes into `image` at `at` (see [`super::image`]): the deadlines and
+    /// the kept levels. The ping and the debug sources, none at power-up, are zero bytes
+    /// (see [`Led`]).
+    pub(crate) const fn put<const N: usize>(&self, image: Image<N>, at: usize) -> Image<N> {
+        image
+            .u16(at + offset_of!(Leds, display_until), self.display_until)
+            .u16(at + offset_of!(Leds, heartbeat_at), self.heartbeat_at)
+            .byte(at + offset_of!(Leds, shown), self.shown)
+            .byte(at + offset_of!(Leds, latch), self.latch)
+            .u16(at + offset_of!(Leds, valid_until), self.valid_until)
     }
 
     /// [`Leds::new`] at `now_ms` for LEDs that `new` made and nothing has touched since

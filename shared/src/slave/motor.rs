@@ -4,11 +4,13 @@ use super::board::{Monitor, MotorId, Param, Variant};
 use super::current::CurrentFilter;
 use super::divide::div_1000;
 use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
+use super::image::Image;
 use super::pot::{Calibration, ADC_MAX};
 use super::scale::{Mapping, Scale, Unmapping};
 use super::state::LocalFault;
 use crate::pid::{Duty, Fix, Form, Gains, Pid, Step};
 use crate::regs::{id, DS};
+use core::mem::offset_of;
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
 pub const MONITOR_PERIOD_US: u32 = 10_000;
@@ -229,8 +231,9 @@ pub struct Monitors {
     pub interval_ms: u16,
 }
 
-/// [`Motor::angle`] has no reading: above any the ADC gives.
-const NO_READING: u16 = u16::MAX;
+/// [`Motor::angle`] has no reading: above any the ADC gives (the first such value, with
+/// one nonzero byte where `u16::MAX` had two: the power-up core's image is the shorter).
+const NO_READING: u16 = ADC_MAX + 1;
 
 /// Raw 0 in a symmetric range.
 const MID: u16 = 0x7fff;
@@ -329,6 +332,48 @@ impl Motor {
             demand: Duty::IDLE,
             applied: 0,
         }
+    }
+
+    /// This motor's bytes into `image` at `at` (see [`super::image`]): each field that
+    /// may be nonzero at power-up; the others (the controller's, the filters' and the
+    /// fault detector's state, the times) are zero there, as the core's host test checks.
+    pub(crate) const fn put<const N: usize>(&self, image: Image<N>, at: usize) -> Image<N> {
+        let params = at + offset_of!(Motor, params);
+        let track = at + offset_of!(Motor, track);
+        let monitors = track + offset_of!(Track, monitors);
+        let mut image = self.params.calibration.put(
+            image
+                .byte(at + offset_of!(Motor, kind), self.kind as u8)
+                .bool(at + offset_of!(Motor, at_rest), self.at_rest)
+                .u16(
+                    params + offset_of!(Params, threshold),
+                    self.params.threshold,
+                )
+                .byte(
+                    params + offset_of!(Params, stall_check),
+                    self.params.stall_check,
+                )
+                .i32(
+                    params + offset_of!(Params, required),
+                    self.params.required.to_bits(),
+                )
+                .u16(
+                    monitors + offset_of!(Monitors, interval_ms),
+                    self.track.monitors.interval_ms,
+                )
+                .bool(track + offset_of!(Track, fresh), self.track.fresh)
+                .u16(at + offset_of!(Motor, angle_reading), self.angle_reading)
+                .i32(at + offset_of!(Motor, angle), self.angle.to_bits())
+                .byte(at + offset_of!(Motor, applied), self.applied),
+            params + offset_of!(Params, calibration),
+        );
+        let raw = &self.track.monitors.raw;
+        let mut i = 0;
+        while i < raw.len() {
+            image = image.u16(monitors + offset_of!(Monitors, raw) + 2 * i, raw[i]);
+            i += 1;
+        }
+        image
     }
 
     /// Applies a written parameter register ([`Params::set`]).

@@ -1,6 +1,8 @@
 //! Potentiometer readings to angles (reference §7.3).
 
+use super::image::Image;
 use crate::pid::{mul, Fix, Saturating};
+use core::mem::offset_of;
 
 /// The highest reading of the 10-bit ADC.
 pub const ADC_MAX: u16 = 1023;
@@ -18,6 +20,13 @@ impl Calibration {
         min: Fix::from_bits(-512 << 16),
         span: Fix::from_bits(1024 << 16),
     };
+
+    /// Its bytes into `image` at `at` (see [`super::image`]).
+    pub(crate) const fn put<const N: usize>(&self, image: Image<N>, at: usize) -> Image<N> {
+        image
+            .i32(at + offset_of!(Calibration, min), self.min.to_bits())
+            .i32(at + offset_of!(Calibration, span), self.span.to_bits())
+    }
 
     /// A calibration from the angles at readings 0 and 1024.
     pub fn new(min: Fix, max: Fix) -> Calibration {

@@ -194,6 +194,14 @@ impl State {
     /// The state at power-up: the boot exception.
     pub const POWER_UP: State = State::Exception(Cause::Boot);
 
+    /// [`State::POWER_UP`]'s bytes, for the firmware's core made from zeroed memory
+    /// ([`super::image`]): the state's tag, then the cause's, which the compiler keeps
+    /// in the fault's spare values; the motor's byte is unused. Every field of a state
+    /// is one byte wide, so the layout is the same on the AVR and the host. Checked by a
+    /// test here and at compile time in the firmware, where these bytes are read back
+    /// as a state.
+    pub const POWER_UP_BYTES: [u8; 3] = [0, 2, 0];
+
     /// Applies an event. `disabled` is REG_DISABLEDEXCEPTIONS: type t is never raised
     /// while bit (1 << t) is set.
     ///
@@ -250,6 +258,20 @@ impl State {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    #[allow(unsafe_code)]
+    fn the_power_up_bytes_are_the_power_up_state() {
+        assert_eq!(core::mem::size_of::<State>(), State::POWER_UP_BYTES.len());
+        // SAFETY: the test is that these bytes are a valid state, and this one.
+        let state: State = unsafe { core::mem::transmute(State::POWER_UP_BYTES) };
+        assert_eq!(state, State::POWER_UP);
+        // Another cause in the same place is another state.
+        let [tag, _, motor] = State::POWER_UP_BYTES;
+        // SAFETY: the boot cause's neighbour among the spare values: the remote cause.
+        let remote: State = unsafe { core::mem::transmute([tag, 3, motor]) };
+        assert_eq!(remote, State::Exception(Cause::Remote));
+    }
 
     /// The transition table written out pair by pair (the form [`State::handle`]
     /// replaced).
