@@ -120,7 +120,7 @@ macro_rules! firmware {
                 let clock = &*cx.shared.clock;
                 cx.local
                     .$encoder
-                    .on_change(&mut cx.shared.edges, || clock.now_us());
+                    .on_change(&mut cx.shared.edges, || clock.now_units());
             }
         )?
 
@@ -134,13 +134,14 @@ macro_rules! firmware {
         }
 
         fn control(mut cx: control::Context) {
-            let now_us = cx.shared.clock.lock(|c| c.now_us());
             // No encoder on a lift/lift board: nothing to take (folded at build time).
+            // The edges first: every edge taken then precedes the tick's time.
             let edges = if Board::variant($board).has_drive() {
                 cx.shared.edges.lock(|e| e.take())
             } else {
                 Default::default()
             };
+            let now_us = cx.shared.clock.lock(|c| c.now_us());
             let core = &mut *cx.local.core;
             let byte = *cx.local.eeprom;
             if byte != 0 {
