@@ -115,23 +115,29 @@ pub fn rate(edges: u16, span: u16) -> Fix {
     if edges == 0 || span == 0 {
         return Fix::ZERO;
     }
-    // 250,000 = 15,625·16 and edges·15,625 is one 16×16 product (65535·15625 < 2^32).
     // edges·250,000 fits a u32 up to 17,179 edges; up to 4,294 (the µs form's limit for
-    // edges·10^6) the product shifted by 4. Beyond (only for more than 4,294 edges in one
-    // update) the span in units of 64 µs, as the µs form had it.
-    let product = wide(edges, 15_625);
-    let (numerator, span) = if edges <= 4_294 {
-        (product << 4, span)
+    // edges·10^6) it is one 16×16 product, (4·edges)·62,500. Beyond (only for more than
+    // 4,294 edges in one update) the µs form took edges·15,625 over the span in units of
+    // 64 µs, s = ⌊span/16⌋ (at least 1): here edges·62,500 over 4·s, the same quotient
+    // and 4 times the remainder, so the same fraction. One product for both.
+    let (factor, span) = if edges <= 4_294 {
+        (edges << 2, span)
     } else {
-        (product, (span >> 4).max(1))
+        (edges, (span >> 4).max(1) << 2)
     };
+    let numerator = wide(factor, 62_500);
     let (whole, rem) = div_rem(numerator, u32::from(span));
-    if whole > 32_767 {
+    // Above 32767 (bit 15 or a high byte set): saturated. Tested as bits, which LLVM
+    // keeps as branches on the AVR (a 32-bit compare made a flag).
+    let [low, high] = (whole as u16).to_le_bytes();
+    if (whole >> 16) as u16 != 0 || high & 0x80 != 0 {
         return Fix::MAX;
     }
-    // rem < span < 2^16, so rem·256 < 2^24 and the same division gives 8 fraction bits.
-    let frac = div_rem(rem << 8, u32::from(span)).0;
-    Fix::from_bits((whole << 16 | frac << 8) as i32)
+    // rem < span < 2^16, so rem·256 < 2^24 and the same division gives 8 fraction bits:
+    // the bits are whole·2^16 + frac·2^8, whole < 2^15 and frac < 2^8, put together as
+    // bytes.
+    let frac = div_rem(rem << 8, u32::from(span)).0 as u8;
+    Fix::from_bits(i32::from_le_bytes([0, frac, low, high]))
 }
 
 /// Whether more than ⌊n/3⌋ of `n` edges saw B high: b > ⌊n/3⌋ exactly when 3·b > n,
