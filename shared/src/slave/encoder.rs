@@ -163,6 +163,12 @@ fn mostly_backward(n: u16, b_high: u16) -> bool {
 /// edge on the tick of the update, at most 12.6 for one 182,768 µs before it). The ages are
 /// exact (or saturated) whatever the gaps; the last edge's timestamp is dated right when
 /// it is less than 2^16 units old at the update, which gaps below 2^15 µs ensure.
+///
+/// The edge counts between two updates wrap at 2^16, where the µs form saturated: the
+/// same while fewer than 65,536 edges come between two updates, which the chip ensures.
+/// Updates are at most 182,768 µs apart (150 ms, then a tick gap below 2^15 µs), and a
+/// rising edge of A takes two runs of the encoder task (PD0's rise and fall), each at
+/// least 20 cycles of 16 MHz: at most 400,000 runs/s, 36,554 rising edges in that time.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct SpeedMeter {
     /// Units since the previous update (or the start).
@@ -172,7 +178,7 @@ pub struct SpeedMeter {
     reference_age: u16,
     /// An update saw an edge.
     referenced: bool,
-    /// Edges counted since the previous update.
+    /// Edges counted since the previous update (wrapping; see above).
     rising: u16,
     /// Of those, with B high.
     b_high: u16,
@@ -204,8 +210,8 @@ impl SpeedMeter {
         self.elapsed = self.elapsed.saturating_add(gap);
         self.reference_age = self.reference_age.saturating_add(gap);
         if sample.rising > 0 {
-            self.rising = self.rising.saturating_add(sample.rising);
-            self.b_high = self.b_high.saturating_add(sample.b_high);
+            self.rising = self.rising.wrapping_add(sample.rising);
+            self.b_high = self.b_high.wrapping_add(sample.b_high);
             self.last_edge = sample.last_edge;
         }
     }
