@@ -140,12 +140,15 @@ pub fn rate(edges: u16, span: u16) -> Fix {
     Fix::from_bits(i32::from_le_bytes([0, frac, low, high]))
 }
 
-/// Whether more than ⌊n/3⌋ of `n` edges saw B high: b > ⌊n/3⌋ exactly when 3·b > n,
-/// which holds when 2·b > n and otherwise exactly when b > n − 2·b. In 16 bits, with no
-/// division and no multiplication (LLVM makes b + b + b one, a library call on the AVR).
+/// Whether more than ⌊n/3⌋ of `n` edges saw B high, for `b_high` ≤ `n` (they count a
+/// subset of the same edges): b > ⌊n/3⌋ exactly when 3·b > n, that is when d = n − b
+/// (no borrow) is below 2·b: when d < b, and otherwise exactly when d − b < b. In 16
+/// bits, with no division and no multiplication (LLVM makes b + b + b one, a library
+/// call on the AVR) and no saturation.
 #[inline(always)]
 fn mostly_backward(n: u16, b_high: u16) -> bool {
-    b_high > n.saturating_sub(b_high).saturating_sub(b_high)
+    let d = n.wrapping_sub(b_high);
+    d < b_high || d.wrapping_sub(b_high) < b_high
 }
 
 /// The drive's speed measurement between two control updates, in 16-bit time: ages in
@@ -237,38 +240,38 @@ impl SpeedMeter {
     #[inline(always)]
     pub fn measure(&mut self, now: u16, mode: DriveMode) -> Fix {
         let n = self.rising;
-        let bounding = mode == DriveMode::EdgeTiming && n == 0;
         // The last edge's age (valid while n > 0): below 2^16 units, so exact.
         let edge_age = now.wrapping_sub(self.last_edge);
-        let (edges, span) = match mode {
-            DriveMode::Window => (n, self.elapsed),
-            DriveMode::EdgeTiming if n == 0 => (1, self.reference_age),
+        let (edges, span) = if n == 0 {
+            // The bound (edge timing): one edge over the time since the reference.
+            (1, self.reference_age)
+        } else if mode == DriveMode::Window {
+            (n, self.elapsed)
+        } else {
             // The reference precedes the last edge. From a saturated reference: from
             // AGE_MAX units before the update.
-            DriveMode::EdgeTiming => (n, self.reference_age.wrapping_sub(edge_age)),
+            (n, self.reference_age.wrapping_sub(edge_age))
         };
-        // A bound on a speed of 0 (so 0 too), or one the timeout makes 0, needs no
-        // division.
-        let magnitude = if bounding && (self.speed == Fix::ZERO || span >= FAST_TIMEOUT) {
+        // No edge in the window (0), a bound on a speed of 0 (so 0 too), or one the
+        // timeout makes 0: no division.
+        let rate = if n == 0
+            && (mode == DriveMode::Window || self.speed == Fix::ZERO || span >= FAST_TIMEOUT)
+        {
             Fix::ZERO
         } else {
-            let rate = rate(edges, span);
-            if bounding {
-                capped_magnitude(self.speed, rate)
-            } else {
-                rate
-            }
+            rate(edges, span)
         };
-        let reverse = if n > 0 {
-            self.referenced = true;
-            self.reference_age = edge_age;
-            mostly_backward(n, self.b_high)
-        } else {
+        let (magnitude, reverse) = if n == 0 {
             if !self.referenced {
                 // The previous update stands in for the reference.
                 self.reference_age = 0;
             }
-            self.speed < Fix::ZERO
+            // The speed capped by the bound (by 0: 0), its sign kept.
+            (capped_magnitude(self.speed, rate), self.speed < Fix::ZERO)
+        } else {
+            self.referenced = true;
+            self.reference_age = edge_age;
+            (rate, mostly_backward(n, self.b_high))
         };
         self.speed = if reverse { -magnitude } else { magnitude };
         self.elapsed = 0;
@@ -463,11 +466,14 @@ mod tests {
     #[test]
     fn backward_means_more_than_a_third() {
         let values = (0..=400u16).chain([0x5554, 0x5555, 0x5556, 0xaaaa, 0xaaab, u16::MAX]);
+        let mut checked = 0;
         for n in values.clone().filter(|&n| n > 0) {
-            for b in values.clone() {
+            for b in values.clone().filter(|&b| b <= n) {
                 assert_eq!(mostly_backward(n, b), b > n / 3, "{b} of {n}");
+                checked += 1;
             }
         }
+        assert!(checked > 80_000, "{checked}");
         assert!(mostly_backward(3, 2) && !mostly_backward(3, 1) && mostly_backward(2, 1));
     }
 
