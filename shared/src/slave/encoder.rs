@@ -252,15 +252,14 @@ impl SpeedMeter {
             // AGE_MAX units before the update.
             (n, self.reference_age.wrapping_sub(edge_age))
         };
-        // No edge in the window (0), a bound on a speed of 0 (so 0 too), or one the
-        // timeout makes 0: no division.
-        let rate = if n == 0
-            && (mode == DriveMode::Window || self.speed == Fix::ZERO || span >= FAST_TIMEOUT)
-        {
-            Fix::ZERO
-        } else {
-            rate(edges, span)
-        };
+        // No edge in the window (0), a bound before any update saw an edge (the speed is
+        // 0 until then, so the bound is 0 too), or one the timeout makes 0: no division.
+        let rate =
+            if n == 0 && (mode == DriveMode::Window || !self.referenced || span >= FAST_TIMEOUT) {
+                Fix::ZERO
+            } else {
+                rate(edges, span)
+            };
         let (magnitude, reverse) = if n == 0 {
             if !self.referenced {
                 // The previous update stands in for the reference.
