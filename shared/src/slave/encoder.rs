@@ -307,31 +307,36 @@ fn capped_magnitude(x: Fix, bound: Fix) -> Fix {
     }
 }
 
-/// The odometer: every rising edge of A, in either direction.
+/// The odometer: every rising edge of A, in either direction, counted mod 2^24 (the
+/// reading needs bits 8..23 only): three bytes, little-endian.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct Odometer {
-    edges: u32,
+    edges: [u8; 3],
 }
 
 impl Odometer {
     /// Zero.
     pub const fn new() -> Odometer {
-        Odometer { edges: 0 }
+        Odometer { edges: [0; 3] }
     }
 
     /// Counts edges.
+    #[inline(always)]
     pub fn add(&mut self, edges: u16) {
-        self.edges = self.edges.wrapping_add(u32::from(edges));
+        let [b0, b1, b2] = self.edges;
+        let sum = u32::from_le_bytes([b0, b1, b2, 0]).wrapping_add(u32::from(edges));
+        let [b0, b1, b2, _] = sum.to_le_bytes();
+        self.edges = [b0, b1, b2];
     }
 
     /// REGDS_DRIVE_ODO: ⌊edges/256⌋ mod 65536.
     pub fn reading(&self) -> u16 {
-        (self.edges >> 8) as u16
+        u16::from_le_bytes([self.edges[1], self.edges[2]])
     }
 
     /// REG_RESET bit 2.
     pub fn clear(&mut self) {
-        self.edges = 0;
+        self.edges = [0; 3];
     }
 }
 
@@ -676,6 +681,29 @@ mod tests {
             long_rests > 200 && saturated > 100 && windows > 1_000,
             "{long_rests} long rests, {saturated} saturated, {windows} windows"
         );
+    }
+
+    #[test]
+    fn the_24_bit_odometer_reads_as_a_32_bit_count() {
+        let mut random = crate::test_random::Xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let (mut odometer, mut wide) = (Odometer::new(), 0u64);
+        for k in 0..200_000 {
+            let edges = match random.below(4) {
+                0 => u16::MAX - random.below(3) as u16,
+                1 => random.below(65_536) as u16,
+                _ => random.below(40) as u16,
+            };
+            odometer.add(edges);
+            wide += u64::from(edges);
+            assert_eq!(odometer.reading(), (wide >> 8) as u16, "{k}");
+        }
+        assert!(
+            wide >> 24 > 100,
+            "the 24-bit count wrapped {} times",
+            wide >> 24
+        );
+        odometer.clear();
+        assert_eq!((odometer, odometer.reading()), (Odometer::new(), 0));
     }
 
     #[test]
