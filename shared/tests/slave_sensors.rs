@@ -149,8 +149,8 @@ fn edge_counter_counts_and_restarts_on_take() {
     );
 }
 
-/// A tick's sample: `rising` edges, `b_high` of them with B high, the last at
-/// `last_edge_us` µs.
+/// A tick's sample: `rising` edges, `b_high` of them with B high, the last edge the counter
+/// saw at `last_edge_us` µs (kept across takes).
 fn edges(rising: u16, b_high: u16, last_edge_us: u32) -> EdgeSample {
     EdgeSample {
         rising,
@@ -171,9 +171,9 @@ fn window_speed_and_its_sign_rule() {
     tick(&mut m, &edges(50, 0, 149_000), 100_000, 150_000);
     assert!(!m.due(DriveMode::Window), "more than 150 ms, not equal");
     let mut later = m;
-    tick(&mut later, &edges(0, 0, 0), 150_000, 150_004);
+    tick(&mut later, &edges(0, 0, 149_000), 150_000, 150_004);
     assert!(later.due(DriveMode::Window));
-    tick(&mut m, &edges(0, 0, 0), 150_000, 151_000);
+    tick(&mut m, &edges(0, 0, 149_000), 150_000, 151_000);
     assert!(m.due(DriveMode::Window));
     let s = m.measure(units(151_000), DriveMode::Window).to_num::<f64>();
     assert!((s - 150.0 * 1e6 / 151_000.0).abs() < 0.01, "{s}");
@@ -183,7 +183,7 @@ fn window_speed_and_its_sign_rule() {
     tick(&mut m, &edges(30, 11, 400_000), 302_000, 453_000);
     assert!(m.measure(units(453_000), DriveMode::Window) < Fix::ZERO);
     // No edges: 0.
-    tick(&mut m, &edges(0, 0, 0), 453_000, 604_000);
+    tick(&mut m, &edges(0, 0, 400_000), 453_000, 604_000);
     assert_eq!(m.measure(units(604_000), DriveMode::Window), Fix::ZERO);
 }
 
@@ -212,16 +212,16 @@ fn edge_timing_speed() {
     }
     // The edges stop: the speed falls to the bound 10^6/elapsed, then to 0 after 100 ms.
     let last_edge = t - 1000;
-    tick(&mut m, &edges(0, 0, 0), now, now + 10_000);
+    tick(&mut m, &edges(0, 0, last_edge), now, now + 10_000);
     now += 10_000;
     let s = m.measure(units(now), DriveMode::EdgeTiming).to_num::<f64>();
     let bound = 1e6 / f64::from(now - last_edge);
     assert!((s - bound).abs() < 0.5, "{s} vs {bound}");
-    tick(&mut m, &edges(0, 0, 0), now, now + 10_000);
+    tick(&mut m, &edges(0, 0, last_edge), now, now + 10_000);
     now += 10_000;
     let s2 = m.measure(units(now), DriveMode::EdgeTiming).to_num::<f64>();
     assert!(s2 < s && s2 > 0.0, "{s2}");
-    tick(&mut m, &edges(0, 0, 0), now, last_edge + 100_000);
+    tick(&mut m, &edges(0, 0, last_edge), now, last_edge + 100_000);
     now = last_edge + 100_000;
     assert_eq!(m.measure(units(now), DriveMode::EdgeTiming), Fix::ZERO);
     // Reverse: B high at every edge.

@@ -206,17 +206,17 @@ impl SpeedMeter {
         }
     }
 
-    /// A tick: `gap` units since the previous one ([`super::clock::age_of`] the clock's interval), and
-    /// the edges it took from the [`EdgeCounter`].
+    /// A tick: `gap` units since the previous one ([`super::clock::age_of`] the clock's
+    /// interval), and the edges it took from the [`EdgeCounter`]. The sample's last edge
+    /// is the last one the counter ever saw (it keeps it across takes), so it is taken
+    /// whatever the count: with no new edge it is the one already kept (no branch).
     #[inline(always)]
     pub fn accumulate(&mut self, sample: &EdgeSample, gap: u16) {
         self.elapsed = self.elapsed.saturating_add(gap);
         self.reference_age = self.reference_age.saturating_add(gap);
-        if sample.rising > 0 {
-            self.rising = self.rising.wrapping_add(sample.rising);
-            self.b_high = self.b_high.wrapping_add(sample.b_high);
-            self.last_edge = sample.last_edge;
-        }
+        self.rising = self.rising.wrapping_add(sample.rising);
+        self.b_high = self.b_high.wrapping_add(sample.b_high);
+        self.last_edge = sample.last_edge;
     }
 
     /// Whether the drive update is due in `mode`.
