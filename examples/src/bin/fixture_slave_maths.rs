@@ -15,7 +15,10 @@
 //!   whole ms, and the ms count;
 //! - op 10: the current filter's step (`current::CurrentFilter::push`) of the sample
 //!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
-//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum.
+//!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum;
+//! - op 11: `clock::age_add(a as u16, g)` (the speed meter's saturating age) for every
+//!   gap g = 0..=65535: a hash of the 65,536 results in order, as op 10's, and their
+//!   wrapping sum.
 #![no_std]
 #![no_main]
 #![feature(asm_experimental_arch)]
@@ -24,7 +27,7 @@ use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
 use shared::pid::{sum, Fix};
 use shared::regs::{id, DS};
-use shared::slave::clock::count_ms;
+use shared::slave::clock::{age_add, count_ms};
 use shared::slave::current::CurrentFilter;
 use shared::slave::scale::{Mapping, Scale};
 use shared::slave::{divide::div_rem, product};
@@ -61,6 +64,18 @@ fn filter_sweep(c: u8) -> (u32, u32) {
     (hash, sum)
 }
 
+/// `age_add(age, g)` for every gap g: a hash of the 65,536 results in order, and their
+/// wrapping sum.
+fn age_sweep(age: u16) -> (u32, u32) {
+    let (mut hash, mut sum) = (0u32, 0u32);
+    for gap in 0..=u16::MAX {
+        let got = age_add(black_box(age), black_box(gap));
+        hash = hash.rotate_left(5) ^ u32::from(got);
+        sum = sum.wrapping_add(u32::from(got));
+    }
+    (hash, sum)
+}
+
 #[avr_device::entry]
 fn main() -> ! {
     let dp = firmware_examples::peripherals();
@@ -90,6 +105,7 @@ fn main() -> ! {
                 (u32::from(to_next), ms)
             }
             10 => filter_sweep(a as u8),
+            11 => age_sweep(a as u16),
             _ => (u32::MAX, u32::MAX),
         };
         put_pair(&uart, x, y);

@@ -12,7 +12,7 @@
 //!
 //! In both, the speed is negative when more than ⌊N/3⌋ of the counted edges saw B high.
 
-use super::clock::{AGE_MAX, US_PER_UNIT};
+use super::clock::{age_add, AGE_MAX, US_PER_UNIT};
 use super::divide::div_rem;
 use super::product::wide;
 use crate::pid::{magnitude, Fix};
@@ -212,8 +212,8 @@ impl SpeedMeter {
     /// whatever the count: with no new edge it is the one already kept (no branch).
     #[inline(always)]
     pub fn accumulate(&mut self, sample: &EdgeSample, gap: u16) {
-        self.elapsed = self.elapsed.saturating_add(gap);
-        self.reference_age = self.reference_age.saturating_add(gap);
+        self.elapsed = age_add(self.elapsed, gap);
+        self.reference_age = age_add(self.reference_age, gap);
         self.rising = self.rising.wrapping_add(sample.rising);
         self.b_high = self.b_high.wrapping_add(sample.b_high);
         self.last_edge = sample.last_edge;
