@@ -66,4 +66,22 @@ impl Stamp {
         }
         counts
     }
+
+    /// `base` + [`Stamp::counts`] in wrapping 16-bit arithmetic, the count added before
+    /// the pending period (fewer registers live in a short interrupt task).
+    #[inline(always)]
+    pub fn counts_from(&self, base: u16) -> u16 {
+        // SAFETY: as in `counts`.
+        let (count, flags) = unsafe {
+            (
+                core::ptr::read_volatile(TCNT0),
+                core::ptr::read_volatile(TIFR0),
+            )
+        };
+        let mut now = base.wrapping_add(u16::from(count));
+        if flags & OCF0A != 0 && count < OCR0B_TICK {
+            now = now.wrapping_add(COUNTS_PER_PERIOD);
+        }
+        now
+    }
 }

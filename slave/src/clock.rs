@@ -38,6 +38,6 @@ impl Clock {
     /// arithmetic. Call as [`Clock::now_us`].
     #[inline(always)]
     pub fn now_units(&self) -> u16 {
-        (self.base as u16).wrapping_add(self.stamp.counts())
+        self.stamp.counts_from(self.base as u16)
     }
 }
