@@ -3,7 +3,8 @@
 //! control tick. Both interrupt enables belong to the executor.
 //!
 //! [`Stamp`] reads the counter and the pending compare-A flag without owning the timer
-//! (both reads are side-effect free), so any task can timestamp an event.
+//! (both reads are side-effect free), so any task can timestamp an event. Every time it
+//! gives is a whole number of counts (4 µs).
 
 use avr_device::atmega328p::TC0;
 
@@ -20,8 +21,8 @@ const OCF0A: u8 = 1 << 1;
 
 /// Microseconds per count.
 pub const US_PER_COUNT: u16 = 4;
-/// Microseconds per compare-A period.
-pub const US_PER_PERIOD: u32 = 1_000;
+/// Counts per compare-A period (1 ms).
+pub const COUNTS_PER_PERIOD: u16 = OCR0A_1MS as u16 + 1;
 
 /// The running Timer0.
 pub struct Timebase {
@@ -45,12 +46,12 @@ impl Timebase {
 pub struct Stamp(());
 
 impl Stamp {
-    /// Microseconds since the last compare A that `base_us` already counts: the counter
-    /// times 4, plus a whole period if compare A has matched but its interrupt has not
-    /// run yet. Call with interrupts off (or from a task at the top priority), so the
-    /// compare-A task cannot run between the caller's read of `base_us` and this.
+    /// Counts (of 4 µs) since the last compare A that the caller's base already counts:
+    /// the counter, plus a whole period if compare A has matched but its interrupt has
+    /// not run yet. Call with interrupts off (or from a task at the top priority), so the
+    /// compare-A task cannot run between the caller's read of its base and this.
     #[inline(always)]
-    pub fn since(&self, base_us: u32) -> u32 {
+    pub fn counts(&self) -> u16 {
         // SAFETY: reading TCNT0 and TIFR0 has no side effect; the counter first, so a
         // match between the two reads is seen with a high count and not added twice.
         let (count, flags) = unsafe {
@@ -59,10 +60,28 @@ impl Stamp {
                 core::ptr::read_volatile(TIFR0),
             )
         };
-        let mut us = base_us.wrapping_add(u32::from(u16::from(count) * US_PER_COUNT));
+        let mut counts = u16::from(count);
         if flags & OCF0A != 0 && count < OCR0B_TICK {
-            us = us.wrapping_add(US_PER_PERIOD);
+            counts += COUNTS_PER_PERIOD;
         }
-        us
+        counts
+    }
+
+    /// `base` + [`Stamp::counts`] in wrapping 16-bit arithmetic, the count added before
+    /// the pending period (fewer registers live in a short interrupt task).
+    #[inline(always)]
+    pub fn counts_from(&self, base: u16) -> u16 {
+        // SAFETY: as in `counts`.
+        let (count, flags) = unsafe {
+            (
+                core::ptr::read_volatile(TCNT0),
+                core::ptr::read_volatile(TIFR0),
+            )
+        };
+        let mut now = base.wrapping_add(u16::from(count));
+        if flags & OCF0A != 0 && count < OCR0B_TICK {
+            now = now.wrapping_add(COUNTS_PER_PERIOD);
+        }
+        now
     }
 }

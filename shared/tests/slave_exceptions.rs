@@ -340,7 +340,7 @@ fn hard_reset_stops_the_motors_and_lets_the_watchdog_fire() {
         edges: shared::slave::EdgeSample {
             rising: 512,
             b_high: 0,
-            last_edge_us: 0,
+            last_edge: 0,
         },
         ..Default::default()
     };

@@ -5,6 +5,7 @@ mod slave_support;
 
 use shared::pid::Fix;
 use shared::regs::id::*;
+use shared::slave::clock::{age_of, units};
 use shared::slave::current::{overcurrent, CurrentFilter};
 use shared::slave::encoder::{rate, DriveMode, Odometer, SpeedMeter};
 use shared::slave::pot::Calibration;
@@ -112,29 +113,30 @@ fn pot_angles_with_the_calibration() {
 
 #[test]
 fn rate_is_edges_per_second() {
-    assert_eq!(rate(0, 150_000), Fix::ZERO);
-    assert_eq!(rate(150, 150_000), Fix::from_num(1000));
-    assert_eq!(rate(1, 150_001).to_num::<f64>().floor(), 6.0);
-    let r = rate(3, 7_000).to_num::<f64>();
+    // Spans in 4-µs units.
+    assert_eq!(rate(0, 37_500), Fix::ZERO);
+    assert_eq!(rate(150, 37_500), Fix::from_num(1000));
+    assert_eq!(rate(1, 37_501).to_num::<f64>().floor(), 6.0);
+    let r = rate(3, 1_750).to_num::<f64>();
     assert!((r - 428.571).abs() < 0.01, "{r}");
-    // Beyond 4294 edges the product overflows u32: another route, same answer.
-    let r = rate(5000, 1_000_000).to_num::<f64>();
-    assert!((r - 5000.0).abs() < 0.01, "{r}");
-    assert_eq!(rate(40_000, 1_000), Fix::MAX);
+    // Beyond 4294 edges the product shifted overflows u32: another route, same answer.
+    let r = rate(5000, 62_496).to_num::<f64>();
+    assert!((r - 5000.0 * 250_000.0 / 62_496.0).abs() < 0.01, "{r}");
+    assert_eq!(rate(40_000, 250), Fix::MAX);
 }
 
 #[test]
 fn edge_counter_counts_and_restarts_on_take() {
     let mut c = EdgeCounter::new();
-    c.rising_edge(100, false);
-    c.rising_edge(200, true);
-    c.rising_edge(300, false);
+    c.rising_edge(25, false);
+    c.rising_edge(50, true);
+    c.rising_edge(75, false);
     assert_eq!(
         c.take(),
         EdgeSample {
             rising: 3,
             b_high: 1,
-            last_edge_us: 300
+            last_edge: 75
         }
     );
     assert_eq!(
@@ -142,57 +144,66 @@ fn edge_counter_counts_and_restarts_on_take() {
         EdgeSample {
             rising: 0,
             b_high: 0,
-            last_edge_us: 300
+            last_edge: 75
         }
     );
 }
 
+/// A tick's sample: `rising` edges, `b_high` of them with B high, the last edge the counter
+/// saw at `last_edge_us` µs (kept across takes).
 fn edges(rising: u16, b_high: u16, last_edge_us: u32) -> EdgeSample {
     EdgeSample {
         rising,
         b_high,
-        last_edge_us,
+        last_edge: units(last_edge_us),
     }
+}
+
+/// A meter ticked from `from_us` to `to_us` (one gap) with `sample`.
+fn tick(m: &mut SpeedMeter, sample: &EdgeSample, from_us: u32, to_us: u32) {
+    m.accumulate(sample, age_of(to_us - from_us));
 }
 
 #[test]
 fn window_speed_and_its_sign_rule() {
-    let mut m = SpeedMeter::new(0);
-    m.accumulate(&edges(100, 0, 90_000));
-    m.accumulate(&edges(50, 0, 149_000));
-    assert!(
-        !m.due(150_000, DriveMode::Window),
-        "more than 150 ms, not equal"
-    );
-    assert!(m.due(150_001, DriveMode::Window));
-    let s = m.measure(151_000, DriveMode::Window).to_num::<f64>();
+    let mut m = SpeedMeter::new();
+    tick(&mut m, &edges(100, 0, 90_000), 0, 100_000);
+    tick(&mut m, &edges(50, 0, 149_000), 100_000, 150_000);
+    assert!(!m.due(DriveMode::Window), "more than 150 ms, not equal");
+    let mut later = m;
+    tick(&mut later, &edges(0, 0, 149_000), 150_000, 150_004);
+    assert!(later.due(DriveMode::Window));
+    tick(&mut m, &edges(0, 0, 149_000), 150_000, 151_000);
+    assert!(m.due(DriveMode::Window));
+    let s = m.measure(units(151_000), DriveMode::Window).to_num::<f64>();
     assert!((s - 150.0 * 1e6 / 151_000.0).abs() < 0.01, "{s}");
     // Negative when more than ⌊N/3⌋ edges saw B high: N = 30 → 11 of them.
-    m.accumulate(&edges(30, 10, 200_000));
-    assert!(m.measure(302_000, DriveMode::Window) > Fix::ZERO);
-    m.accumulate(&edges(30, 11, 400_000));
-    assert!(m.measure(453_000, DriveMode::Window) < Fix::ZERO);
+    tick(&mut m, &edges(30, 10, 200_000), 151_000, 302_000);
+    assert!(m.measure(units(302_000), DriveMode::Window) > Fix::ZERO);
+    tick(&mut m, &edges(30, 11, 400_000), 302_000, 453_000);
+    assert!(m.measure(units(453_000), DriveMode::Window) < Fix::ZERO);
     // No edges: 0.
-    assert_eq!(m.measure(604_000, DriveMode::Window), Fix::ZERO);
+    tick(&mut m, &edges(0, 0, 400_000), 453_000, 604_000);
+    assert_eq!(m.measure(units(604_000), DriveMode::Window), Fix::ZERO);
 }
 
 #[test]
 fn edge_timing_speed() {
-    let mut m = SpeedMeter::new(0);
+    let mut m = SpeedMeter::new();
     // 1000 ticks/s: an edge every 1000 µs from t = 500.
     let mut t = 500;
     let mut now = 0;
     let mut speeds = Vec::new();
     for _ in 0..5 {
-        now += 10_000;
         let mut n = 0;
-        while t <= now {
+        while t <= now + 10_000 {
             n += 1;
             t += 1000;
         }
-        m.accumulate(&edges(n, 0, t - 1000));
-        assert!(m.due(now, DriveMode::EdgeTiming));
-        speeds.push(m.measure(now, DriveMode::EdgeTiming).to_num::<f64>());
+        tick(&mut m, &edges(n, 0, t - 1000), now, now + 10_000);
+        now += 10_000;
+        assert!(m.due(DriveMode::EdgeTiming));
+        speeds.push(m.measure(units(now), DriveMode::EdgeTiming).to_num::<f64>());
     }
     // The first interval has no earlier edge, so it spans from the previous update.
     assert!((speeds[0] - 10.0 / 9_500.0 * 1e6).abs() < 0.5, "{speeds:?}");
@@ -201,18 +212,21 @@ fn edge_timing_speed() {
     }
     // The edges stop: the speed falls to the bound 10^6/elapsed, then to 0 after 100 ms.
     let last_edge = t - 1000;
+    tick(&mut m, &edges(0, 0, last_edge), now, now + 10_000);
     now += 10_000;
-    let s = m.measure(now, DriveMode::EdgeTiming).to_num::<f64>();
+    let s = m.measure(units(now), DriveMode::EdgeTiming).to_num::<f64>();
     let bound = 1e6 / f64::from(now - last_edge);
     assert!((s - bound).abs() < 0.5, "{s} vs {bound}");
+    tick(&mut m, &edges(0, 0, last_edge), now, now + 10_000);
     now += 10_000;
-    let s2 = m.measure(now, DriveMode::EdgeTiming).to_num::<f64>();
+    let s2 = m.measure(units(now), DriveMode::EdgeTiming).to_num::<f64>();
     assert!(s2 < s && s2 > 0.0, "{s2}");
+    tick(&mut m, &edges(0, 0, last_edge), now, last_edge + 100_000);
     now = last_edge + 100_000;
-    assert_eq!(m.measure(now, DriveMode::EdgeTiming), Fix::ZERO);
+    assert_eq!(m.measure(units(now), DriveMode::EdgeTiming), Fix::ZERO);
     // Reverse: B high at every edge.
-    m.accumulate(&edges(5, 5, now + 9_000));
-    let s = m.measure(now + 10_000, DriveMode::EdgeTiming);
+    tick(&mut m, &edges(5, 5, now + 9_000), now, now + 10_000);
+    let s = m.measure(units(now + 10_000), DriveMode::EdgeTiming);
     assert!(s < Fix::ZERO, "{s}");
 }
 

@@ -180,7 +180,7 @@ fn ram_size_of_the_logic() {
     println!("Core {core} B, RegisterFile {regs} B, EdgeCounter {counter} B, AdcCollector {adc} B");
     assert!(core <= 360, "Core is {core} bytes");
     assert!(regs <= 112, "RegisterFile is {regs} bytes");
-    assert_eq!(counter, 8);
+    assert_eq!(counter, 6);
     assert_eq!(adc, 12);
 }
 

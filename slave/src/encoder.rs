@@ -30,11 +30,12 @@ impl Encoder {
         }
     }
 
-    /// A pin change: counts it if A is now high. `now_us` is read only then.
+    /// A pin change: counts it if A is now high. `now` (16-bit units of 4 µs) is read
+    /// only then.
     #[inline(always)]
-    pub fn on_change(&self, counter: &mut EdgeCounter, now_us: impl FnOnce() -> u32) {
+    pub fn on_change(&self, counter: &mut EdgeCounter, now: impl FnOnce() -> u16) {
         if self.a.is_high() {
-            counter.rising_edge(now_us(), self.b.is_high());
+            counter.rising_edge(now(), self.b.is_high());
         }
     }
 }

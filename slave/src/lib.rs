@@ -143,7 +143,7 @@ macro_rules! firmware {
                 let clock = &*cx.shared.clock;
                 cx.local
                     .$encoder
-                    .on_change(&mut cx.shared.edges, || clock.now_us());
+                    .on_change(&mut cx.shared.edges, || clock.now_units());
             }
         )?
 
@@ -157,13 +157,14 @@ macro_rules! firmware {
         }
 
         fn control(mut cx: control::Context) {
-            let now_us = cx.shared.clock.lock(|c| c.now_us());
             // No encoder on a lift/lift board: nothing to take (folded at build time).
+            // The edges first: every edge taken then precedes the tick's time.
             let edges = if Board::variant($board).has_drive() {
                 cx.shared.edges.lock(|e| e.take())
             } else {
                 Default::default()
             };
+            let now_us = cx.shared.clock.lock(|c| c.now_us());
             // SAFETY: `init` made it a valid core (`power_up::write`).
             let core = unsafe { cx.local.core.assume_init_mut() };
             // One lock for everything the priority-2 tasks fill.

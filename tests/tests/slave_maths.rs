@@ -4,7 +4,8 @@
 //! PID's saturating `I16F16` product, sum, difference, magnitude, dead zone and clamp
 //! on every pair of corner values and on pseudo-random operands of every width, the
 //! monitoring values' mapping (`shared::slave::scale`) by nine scales, the current
-//! filter's step on every input, the clock's count of whole ms and the power-up writer
+//! filter's step on every input, the clock's count of whole ms, the speed meter's
+//! saturating age on every gap at a dozen ages and the power-up writer
 //! (`shared::slave::image::apply_from_flash`) over a sparse image, each checked against
 //! the host's own arithmetic (written out here, or the host build's). The host builds of these
 //! functions are plain Rust, so only this test shows the assembly right.
@@ -350,6 +351,45 @@ fn clock_count_of_whole_ms_matches_the_host() {
     assert_eq!((want_next, want_ms), (706, 4_294_968));
     assert_eq!(cases, 5 * 27 * 4);
     assert!(wrapped > 50, "{wrapped}");
+}
+
+#[test]
+fn the_saturating_age_matches_the_host_for_every_gap() {
+    // Every gap at ages from 0 to the largest: op 11 hashes the 65,536 results in order.
+    let mut avr = fixture();
+    let mut saturated = 0;
+    let ages = [
+        0u16,
+        1,
+        2,
+        249,
+        2_500,
+        0x7fff,
+        0x8000,
+        37_501,
+        0xfffe,
+        u16::MAX,
+    ];
+    for age in ages.into_iter().chain(operands(4).map(|x| x as u16)) {
+        let (mut hash, mut sum) = (0u32, 0u32);
+        for gap in 0..=u16::MAX {
+            let want = age.saturating_add(gap);
+            hash = hash.rotate_left(5) ^ u32::from(want);
+            sum = sum.wrapping_add(u32::from(want));
+            saturated += usize::from(want == u16::MAX);
+        }
+        let reply = {
+            let mut req = vec![11u8];
+            req.extend_from_slice(&u32::from(age).to_le_bytes());
+            req.extend_from_slice(&[0; 4]);
+            avr.uart_send(&req);
+            avr.uart_read_exact(8, 50_000_000).unwrap()
+        };
+        let word =
+            |i: usize| u32::from_le_bytes([reply[i], reply[i + 1], reply[i + 2], reply[i + 3]]);
+        assert_eq!((word(0), word(4)), (hash, sum), "age {age}");
+    }
+    assert!(saturated > 200_000, "{saturated}");
 }
 
 /// The fixture's op-20 image, byte `i` (as `fixture_slave_maths` has it).

@@ -16,6 +16,9 @@
 //! - op 10: the current filter's step (`current::CurrentFilter::push`) of the sample
 //!   `a as u8` from every raw value f = 0..=65535: a hash of the 65,536 results in
 //!   order (`h = h.rotate_left(5) ^ f'`) and their wrapping sum;
+//! - op 11: `clock::age_add(a as u16, g)` (the speed meter's saturating age) for every
+//!   gap g = 0..=65535: a hash of the 65,536 results in order, as op 10's, and their
+//!   wrapping sum;
 //! - op 20: the pairs of [`SAMPLE`] (in flash) written over 600 zero bytes by
 //!   `image::apply_from_flash` (the slave's power-up writer): bytes a..a + 8 of them.
 #![no_std]
@@ -26,7 +29,7 @@ use core::hint::black_box;
 use firmware_examples::uart::{get_request, put_pair};
 use shared::pid::{sum, Fix};
 use shared::regs::{id, DS};
-use shared::slave::clock::count_ms;
+use shared::slave::clock::{age_add, count_ms};
 use shared::slave::current::CurrentFilter;
 use shared::slave::image::{apply_from_flash, Image};
 use shared::slave::scale::{Mapping, Scale};
@@ -58,6 +61,18 @@ fn filter_sweep(c: u8) -> (u32, u32) {
         let mut filter = CurrentFilter::from_raw(black_box(f));
         filter.push(black_box(u16::from(c)));
         let got = filter.raw();
+        hash = hash.rotate_left(5) ^ u32::from(got);
+        sum = sum.wrapping_add(u32::from(got));
+    }
+    (hash, sum)
+}
+
+/// `age_add(age, g)` for every gap g: a hash of the 65,536 results in order, and their
+/// wrapping sum.
+fn age_sweep(age: u16) -> (u32, u32) {
+    let (mut hash, mut sum) = (0u32, 0u32);
+    for gap in 0..=u16::MAX {
+        let got = age_add(black_box(age), black_box(gap));
         hash = hash.rotate_left(5) ^ u32::from(got);
         sum = sum.wrapping_add(u32::from(got));
     }
@@ -135,6 +150,7 @@ fn main() -> ! {
                 (u32::from(to_next), ms)
             }
             10 => filter_sweep(a as u8),
+            11 => age_sweep(a as u16),
             20 => written_sample(a as usize),
             _ => (u32::MAX, u32::MAX),
         };

@@ -368,7 +368,7 @@ mod tests {
                 edges: EdgeSample {
                     rising: (t % 3) as u16,
                     b_high: 0,
-                    last_edge_us: t * TICK_US,
+                    last_edge: crate::slave::clock::units(t * TICK_US),
                 },
                 adc: AdcSample {
                     current: [40, 60],

@@ -167,7 +167,7 @@ impl<B: Board> Core<B> {
             leds: Leds::new(0),
             motors,
             next_position_us: [0; 2],
-            speed: SpeedMeter::new(0),
+            speed: SpeedMeter::new(),
             odometer: Odometer::new(),
             chassis: 0,
             chassis_at_ms: 0,
@@ -363,15 +363,15 @@ impl<B: Board> Core<B> {
         self.sense_current(MotorId::M2, inputs);
         if self.variant().has_drive() {
             self.odometer.add(inputs.edges.rising);
-            self.speed.accumulate(&inputs.edges);
+            self.speed.accumulate(&inputs.edges, self.clock.gap());
             let now = now_ms as u16;
             if now.wrapping_sub(self.chassis_at_ms) >= CHASSIS_PERIOD_MS {
                 // A mapping costs some 400 cycles on the AVR: refreshed every 10 ms.
                 self.chassis_at_ms = now;
                 self.chassis = CHASSIS.map_int(inputs.adc.ch7);
             }
-            if self.speed.due(now_us, self.drive_mode) {
-                let speed = self.speed.measure(now_us, self.drive_mode);
+            if self.speed.due(self.drive_mode) {
+                let speed = self.speed.measure(clock::units(now_us), self.drive_mode);
                 self.update_motor(MotorId::M1, speed, now_us, now_ms);
             }
         }
@@ -477,16 +477,14 @@ impl<B: Board> Core<B> {
         }
     }
 
-    /// The first tick's setup: the LEDs', the speed meter's, the motors' and the
-    /// position updates' times.
+    /// The first tick's setup: the LEDs', the motors' and the position updates' times
+    /// (the speed meter counts ages from the first tick as `new` made it).
     #[inline(always)]
     fn start(&mut self, now_us: u32, now_ms: u32) {
-        // The LEDs and the speed meter are as `new` made them (this is the first tick):
-        // only their times move.
+        // The LEDs are as `new` made them (this is the first tick): only their times move.
         self.leds.start(now_ms);
         if self.variant().has_drive() {
             // Drive state only: a lift/lift board never reads it.
-            self.speed.start(now_us);
             self.chassis_at_ms = (now_ms as u16).wrapping_sub(CHASSIS_PERIOD_MS);
         }
         for m in &mut self.motors {

@@ -1,11 +1,12 @@
 //! One motor of a slave: its parameters, its controller and its monitoring values.
 
 use super::board::{Monitor, MotorId, Param, Variant};
+use super::clock::{units, US_PER_UNIT};
 use super::current::CurrentFilter;
-use super::divide::div_1000;
 use super::fault::{FaultDetector, Limits, Motion, STALL_CHECK_POWER_ON};
 use super::image::Image;
 use super::pot::{Calibration, ADC_MAX};
+use super::product::wide;
 use super::scale::{Mapping, Scale, Unmapping};
 use super::state::LocalFault;
 use crate::pid::{Duty, Fix, Form, Gains, Pid, Step};
@@ -14,7 +15,9 @@ use core::mem::offset_of;
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
 pub const MONITOR_PERIOD_US: u32 = 10_000;
-const _: () = assert!(MONITOR_PERIOD_US <= u16::MAX as u32);
+/// The same in units of 4 µs ([`super::clock::US_PER_UNIT`]).
+const MONITOR_PERIOD: u16 = (MONITOR_PERIOD_US / US_PER_UNIT) as u16;
+const _: () = assert!(MONITOR_PERIOD_US.is_multiple_of(US_PER_UNIT));
 
 /// The power-on overcurrent threshold of every motor, raw ADC counts.
 pub const THRESHOLD_POWER_ON: u16 = 300;
@@ -317,8 +320,8 @@ impl Motor {
             params: Params::POWER_ON,
             track: Track {
                 pid: Pid::new(),
-                last_update_us: 0,
-                since_mapped_us: 0,
+                last_update: 0,
+                since_mapped: 0,
                 monitors: Monitors::POWER_ON,
                 mapped_from: MappedFrom::POWER_ON,
                 fresh: true,
@@ -426,9 +429,9 @@ impl Motor {
 
     /// Starts the interval clock at the board's first tick.
     pub fn start(&mut self, now_us: u32) {
-        self.track.last_update_us = now_us;
+        self.track.last_update = units(now_us);
         // The first update maps.
-        self.track.since_mapped_us = MONITOR_PERIOD_US as u16;
+        self.track.since_mapped = MONITOR_PERIOD;
     }
 
     /// Feeds a tick's current readings; returns an overcurrent fault if the peak is above
@@ -593,11 +596,13 @@ impl Motor {
 #[repr(C)]
 struct Track {
     pid: Pid,
-    /// When the previous update ran (or the board started), µs.
-    last_update_us: u32,
-    /// µs from the last mapping of the monitoring values to the previous update (or to
-    /// the start): below [`MONITOR_PERIOD_US`] after each update, so 16 bits hold it.
-    since_mapped_us: u16,
+    /// When the previous update ran (or the board started), in wrapping 16-bit units of
+    /// 4 µs ([`units`]): the interval to the next is exact below 2^16 units (262,144 µs;
+    /// a motor updates at least every 150 ms and a tick, see [`Track::record`]).
+    last_update: u16,
+    /// Units from the last mapping of the monitoring values to the previous update (or
+    /// to the start): below [`MONITOR_PERIOD`] after each update.
+    since_mapped: u16,
     monitors: Monitors,
     /// What the monitoring values were last mapped from (at power-up: what
     /// [`Monitors::POWER_ON`] maps from).
@@ -629,18 +634,25 @@ impl Track {
     /// values passed on the stack).
     #[inline(never)]
     fn record(&mut self, kind: Kind, error: Fix, deriv: Fix, control: u16, cx: &UpdateContext) {
-        let now_us = cx.now_us;
-        let gap = now_us.wrapping_sub(self.last_update_us);
+        // The interval in 16-bit units: the same as the µs form's (a 32-bit timestamp)
+        // while updates are less than 2^16 units apart, which they are on the board: a
+        // motor updates at least every 150 ms and a tick (the drive's window; the position
+        // motors every 2 ms), and ticks are 1 ms apart (the clock flags a gap of 2^15 µs,
+        // and the watchdog resets a board whose tick stalls for 1.024 s). Tested against
+        // the µs form.
+        let now = units(cx.now_us);
+        let gap = now.wrapping_sub(self.last_update);
         let interval_ms = interval_ms(gap);
-        self.last_update_us = now_us;
+        self.last_update = now;
         self.monitors.interval_ms = interval_ms;
         // Mapping six values costs more than the update itself on the AVR, so the
         // monitoring registers are refreshed from every update at most every 10 ms: the
-        // time since the last mapping (wrapping as a 32-bit µs difference would).
-        let since = u32::from(self.since_mapped_us).wrapping_add(gap);
-        self.since_mapped_us = since as u16;
-        if since >= MONITOR_PERIOD_US {
-            self.since_mapped_us = 0;
+        // time since the last mapping (saturating, so at least the period whenever the
+        // exact sum is).
+        let since = self.since_mapped.saturating_add(gap);
+        self.since_mapped = since;
+        if since >= MONITOR_PERIOD {
+            self.since_mapped = 0;
             self.fresh = true;
             // A value equal to the one last mapped keeps its raw value: a motor at rest
             // maps nothing. Before the first mapping the raw values are those of 0
@@ -715,9 +727,11 @@ fn map_by(mapping: Option<&Mapping>, value: Fix) -> u16 {
     mapping.map_or(0, |mapping| mapping.map(value))
 }
 
-/// ⌊µs/1000⌋, saturating at 65535.
-fn interval_ms(us: u32) -> u16 {
-    u16::try_from(div_1000(us)).unwrap_or(u16::MAX)
+/// ⌊4·units/1000⌋ = ⌊units/250⌋ = ⌊y/125⌋ for y = ⌊units/2⌋ < 2^15: ⌊y·33,555/2^22⌋
+/// for every such y (tested exhaustively), one 16×16 product's high half shifted.
+#[inline(always)]
+fn interval_ms(units: u16) -> u16 {
+    ((wide(units >> 1, 33_555) >> 16) as u16) >> 6
 }
 
 #[cfg(test)]
@@ -766,33 +780,48 @@ mod tests {
     }
 
     #[test]
-    fn the_mapping_period_is_due_as_with_a_32_bit_timestamp() {
-        // The form replaced: the 32-bit µs of the last mapping (0 at power-up, 10 ms
-        // before the start), due when now − it ≥ 10 ms, wrapping. Gaps of every size:
-        // short ones (the position motors' 2 ms), the drive's 150 ms windows, gaps past
-        // 2^16 and 2^24 µs, and the clock stepping back, from before and past 2^32 µs.
+    fn the_interval_in_units_is_the_whole_ms_of_four_times_it() {
+        for units in 0..=u16::MAX {
+            assert_eq!(
+                u32::from(interval_ms(units)),
+                4 * u32::from(units) / 1000,
+                "{units}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_interval_and_the_mapping_period_are_as_with_a_32_bit_timestamp() {
+        // The form replaced: the 32-bit µs of the previous update and of the last mapping
+        // (0 at power-up, 10 ms before the start), the interval ⌊gap/1000⌋ and the mapping
+        // due when now − it ≥ 10 ms, wrapping. Gaps in whole units (the chip's time) below
+        // 2^16 units, as on the board: short ones (the position motors' 2 ms), the drive's
+        // 150 ms windows and 10 ms updates, late ones, the longest (2^18 − 4 µs), across
+        // the clock's wrap.
         let mut m = Motor::new(Kind::Position);
-        let mut mapped_us = 0u32;
-        let mut now = u32::MAX - 3_000_000;
+        let (mut mapped_us, mut last_us) = (0u32, 0u32);
+        let mut now = u32::MAX - 3_000_000 + 1;
         let mut seed = 0x2545_f491u32;
-        let (mut due, mut not_due) = (0, 0);
+        let (mut due, mut not_due, mut long) = (0, 0, 0);
         assert!(m.take_fresh());
-        for k in 0..30_000 {
-            if k == 5 || k == 20_000 {
+        for k in 0..60_000 {
+            if k == 0 || k == 40_000 {
                 m.start(now);
                 mapped_us = now.wrapping_sub(MONITOR_PERIOD_US);
+                last_us = now;
             }
             seed ^= seed << 13;
             seed ^= seed >> 17;
             seed ^= seed << 5;
-            let gap = match seed % 10 {
-                0 => seed >> 8,
-                1 => 65_536 + seed % 30_000,
-                2 => 150_000 + seed % 2,
-                3 => u32::MAX - seed % 5_000,
-                4..=6 => seed % 12_000,
-                _ => seed % 3_000,
+            let gap = 4 * match seed % 10 {
+                0 => (seed >> 8) % 65_536,
+                1 => 65_535 - seed % 30,
+                2 => 37_500 + seed % 300,
+                3 => 2_500 + seed % 8_192,
+                4..=6 => seed % 3_000,
+                _ => seed % 750,
             };
+            long += usize::from(gap > 150_000);
             now = now.wrapping_add(gap);
             let cx = UpdateContext {
                 now_us: now,
@@ -801,6 +830,9 @@ mod tests {
                 fault_time_ms: 500,
             };
             m.update(Fix::from_bits((seed as i32) >> 9), &cx);
+            let interval = now.wrapping_sub(last_us) / 1000;
+            last_us = now;
+            assert_eq!(u32::from(m.monitors().interval_ms), interval, "update {k}");
             let want = now.wrapping_sub(mapped_us) >= MONITOR_PERIOD_US;
             if want {
                 mapped_us = now;
@@ -810,7 +842,10 @@ mod tests {
             }
             assert_eq!(m.take_fresh(), want, "update {k}, gap {gap}");
         }
-        assert!(due > 10_000 && not_due > 5_000, "{due} {not_due}");
+        assert!(
+            due > 20_000 && not_due > 10_000 && long > 5_000,
+            "{due} {not_due} {long}"
+        );
     }
 
     #[test]

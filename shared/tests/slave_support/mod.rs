@@ -7,7 +7,8 @@
 use shared::mapping;
 use shared::regs::BoardKind;
 use shared::slave::{
-    AdcSample, Core, EdgeCounter, Inputs, MotorOutput, Outputs, RegisterFile, Variant, TICK_US,
+    clock::units, AdcSample, Core, EdgeCounter, Inputs, MotorOutput, Outputs, RegisterFile,
+    Variant, TICK_US,
 };
 
 /// A slave on the bench.
@@ -232,8 +233,8 @@ impl DriveWheel {
             self.position += self.speed * h;
             if !self.encoder_broken && self.position.floor() != before.floor() {
                 let forward = self.position > before;
-                self.counter
-                    .rising_edge(t0_us.wrapping_add((i + 1) * 10), !forward);
+                let at = t0_us.wrapping_add((i + 1) * 10);
+                self.counter.rising_edge(units(at), !forward);
             }
         }
         let amps = if self.open_circuit {
