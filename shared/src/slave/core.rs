@@ -30,8 +30,10 @@
 //! error, integral and output are 0: [`Motor::holds`]) skips its controller; a motor's
 //! monitoring values are remapped only where they changed, at most every 10 ms; 32-bit
 //! products come from the hardware multiplier ([`super::product`]). What keeps the image
-//! small: the core's power-up state is compile-time data (`Core::POWER_UP`, copied with
-//! `.data` at reset); the two PID forms share one update; the PID's saturating product,
+//! small: the core powers up as zeroed memory plus its nonzero bytes, written at boot
+//! from a flash table that [`Core::image`] lays out at compile time (`Core::POWER_UP`,
+//! rebuilt from it in a host test); time in the speed meter and a motor's update record
+//! is 16-bit, in 4-µs units; the two PID forms share one update; the PID's saturating product,
 //! sum and difference, the division, the monitoring mapping, the current filter's step
 //! and the clock's ms count are short assembly routines ([`super::product::fixed`],
 //! [`crate::pid::sum`], [`super::divide`], [`super::scale`], [`super::current`],
