@@ -110,7 +110,7 @@ pub fn generate_tables(def: &Definition) -> String {
         let _ = writeln!(out, "crate::flash_table! {{");
         let _ = writeln!(
             out,
-            "    /// [`{name}_FLAGS`] kept in flash on the AVR (read with `Flash::get`)."
+            "    /// `{name}_FLAGS` kept in flash on the AVR (read with `Flash::get`)."
         );
         let _ = writeln!(
             out,
@@ -182,7 +182,7 @@ block SUB extends BASE
         assert!(src.contains("pub const SUB_FLAGS: [u8; 4] = [65, 2, 66, 1];"));
         assert!(src.contains("pub const SUB_RANGE_INDEX: [u8; 4] = [255, 0, 0, 1];"));
         assert!(src.contains(
-            "crate::flash_table! {\n    /// [`SUB_FLAGS`] kept in flash on the AVR (read with \
+            "crate::flash_table! {\n    /// `SUB_FLAGS` kept in flash on the AVR (read with \
              `Flash::get`).\n    pub static SUB_FLAGS_FLASH: [u8; 4] = SUB_FLAGS;\n}\n"
         ));
     }

@@ -2,7 +2,7 @@
 //!
 //! On the ATmega328P a `static` lives in RAM: the start-up code copies every initial
 //! value from flash to `.data`, so a constant table costs its size twice, once of the
-//! 2 KB of RAM. A table declared with [`flash_table!`] is placed in `.progmem.data`,
+//! 2 KB of RAM. A table declared with [`flash_table!`](crate::flash_table) is placed in `.progmem.data`,
 //! which the linker keeps in flash, and is read one element at a time with the `LPM`
 //! instruction by [`Flash::get`]. On the host the same table is an ordinary static and
 //! `get` indexes it, so the code that uses a table is tested on the host unchanged.
@@ -12,7 +12,7 @@
 #![allow(unsafe_code)]
 
 /// A constant table (`Flash<[T; N]>`) kept in flash on the AVR; read it with
-/// [`Flash::get`] through a `&'static Flash<[T]>`. Built only by [`flash_table!`].
+/// [`Flash::get`] through a `&'static Flash<[T]>`. Built only by [`flash_table!`](crate::flash_table).
 #[repr(transparent)]
 pub struct Flash<T: ?Sized>(T);
 
@@ -21,7 +21,7 @@ impl<T: Copy, const N: usize> Flash<[T; N]> {
     ///
     /// # Safety
     /// Only as the initial value of a `static` that is placed in `.progmem.data` when
-    /// built for the AVR, as [`flash_table!`] does: [`Flash::get`] reads the table's
+    /// built for the AVR, as [`flash_table!`](crate::flash_table) does: [`Flash::get`] reads the table's
     /// address as a flash address there.
     #[doc(hidden)]
     pub const unsafe fn new(items: [T; N]) -> Self {

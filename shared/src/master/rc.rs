@@ -101,7 +101,7 @@ pub fn speed_raw_of(drive: i16) -> u16 {
     (u32::from(x) * 32767 / u32::from(SPAN)) as u16
 }
 
-/// Raw REGDS_STEER_REQPOS (±200° over 0..65534) of an angle in cdeg: [`map_scaled`]
+/// Raw REGDS_STEER_REQPOS (±200° over 0..65534) of an angle in cdeg: `map_scaled`
 /// with the clamp in 16 bits, as the firmware maps one per wheel and pass.
 pub fn angle_raw(cdeg: i16) -> u16 {
     const SPAN: i16 = 200 * 100;
