@@ -100,10 +100,9 @@ pub struct Core<B: Board = Variant> {
     board: B,
     address: Option<u8>,
     state: State,
-    disabled: u16,
-    fault_time_ms: u16,
-    /// BUSTIMEOUT, ms (0 = off).
-    bus_timeout_ms: u16,
+    /// DISABLEDEXCEPTIONS, FAULTTIME (ms) and BUSTIMEOUT (ms, 0 = off), the registers
+    /// [`Core::apply`] stores as they are, by their index ([`word`]).
+    words: [u16; 3],
     silence: SilenceWatch,
     drive_mode: DriveMode,
     clock: Clock,
@@ -159,9 +158,7 @@ impl<B: Board> Core<B> {
             board,
             address,
             state: State::POWER_UP,
-            disabled: 0,
-            fault_time_ms: FAULT_TIME_POWER_ON_MS,
-            bus_timeout_ms: BUS_TIMEOUT_POWER_ON_MS,
+            words: [0, FAULT_TIME_POWER_ON_MS, BUS_TIMEOUT_POWER_ON_MS],
             silence: SilenceWatch::new(),
             drive_mode: DriveMode::Window,
             clock: Clock::new(),
@@ -197,9 +194,12 @@ impl<B: Board> Core<B> {
         assert!(matches!(self.state, State::Exception(Cause::Boot)));
         let image = Image::ZERO
             .bytes_at(offset_of!(Core<B>, state), &State::POWER_UP_BYTES)
-            .u16(offset_of!(Core<B>, disabled), self.disabled)
-            .u16(offset_of!(Core<B>, fault_time_ms), self.fault_time_ms)
-            .u16(offset_of!(Core<B>, bus_timeout_ms), self.bus_timeout_ms)
+            .u16(word_at::<B>(word::DISABLED), self.words[word::DISABLED])
+            .u16(word_at::<B>(word::FAULT_TIME), self.words[word::FAULT_TIME])
+            .u16(
+                word_at::<B>(word::BUS_TIMEOUT),
+                self.words[word::BUS_TIMEOUT],
+            )
             .byte(offset_of!(Core<B>, drive_mode), self.drive_mode as u8)
             .u16(offset_of!(Core<B>, chassis), self.chassis)
             .byte(pending + offset_of!(Pending, flags), self.pending.flags)
@@ -291,11 +291,19 @@ impl<B: Board> Core<B> {
         let Some(action) = actions(self.variant()).get(usize::from(reg)) else {
             return;
         };
+        // A word stored as it is: one indexed store for the three.
+        if let Some(word) = self
+            .words
+            .get_mut(usize::from(action.wrapping_sub(act::WORD)))
+        {
+            *word = raw;
+            return;
+        }
         match action {
             act::RESET => {
                 let bits = ResetBits(low);
                 if let Some(event) = bits.event() {
-                    self.state.handle(event, self.disabled);
+                    self.state.handle(event, self.disabled());
                 }
                 if bits.zero_odometer() && self.variant().has_drive() {
                     self.odometer.clear();
@@ -306,12 +314,9 @@ impl<B: Board> Core<B> {
                 self.pending.flags |= DEBUG_LED;
             }
             act::EXCEPTION_DATA => {
-                self.state.handle(Event::RemoteWrite, self.disabled);
+                self.state.handle(Event::RemoteWrite, self.disabled());
             }
-            act::DISABLED => self.disabled = raw,
             act::PING => self.pending.flags |= PING,
-            act::FAULT_TIME => self.fault_time_ms = raw,
-            act::BUS_TIMEOUT => self.bus_timeout_ms = raw,
             act::DRIVE_MODE if self.variant().has_drive() => {
                 self.drive_mode = DriveMode::from_register(raw)
             }
@@ -347,9 +352,9 @@ impl<B: Board> Core<B> {
         }
         self.take_pending(now_ms);
         if matches!(self.state, State::Running { .. })
-            && self.silence.expired(now_ms, self.bus_timeout_ms)
+            && self.silence.expired(now_ms, self.words[word::BUS_TIMEOUT])
         {
-            self.state.handle(Event::BusSilence, self.disabled);
+            self.state.handle(Event::BusSilence, self.disabled());
         }
 
         // Per motor, written out twice rather than looped: each motor's fields are then
@@ -547,7 +552,7 @@ impl<B: Board> Core<B> {
             now_us,
             now_ms,
             in_exception: self.state.in_exception(),
-            fault_time_ms: self.fault_time_ms,
+            fault_time_ms: self.words[word::FAULT_TIME],
         }
     }
 
@@ -559,10 +564,16 @@ impl<B: Board> Core<B> {
         self.raise(fault, motor);
     }
 
+    /// DISABLEDEXCEPTIONS.
+    #[inline(always)]
+    fn disabled(&self) -> u16 {
+        self.words[word::DISABLED]
+    }
+
     fn raise(&mut self, fault: Option<LocalFault>, motor: MotorId) {
         if let Some(fault) = fault {
             self.state
-                .handle(Event::Fault { fault, motor }, self.disabled);
+                .handle(Event::Fault { fault, motor }, self.disabled());
         }
     }
 
@@ -581,24 +592,42 @@ impl<B: Board> Core<B> {
 mod act {
     /// A motor's parameter is its [`super::Param`]'s index, plus this bit for M2's.
     pub const M2: u8 = 0x10;
-    /// REG_RESET.
-    pub const RESET: u8 = 0x80;
-    /// REG_DEBUGLED.
-    pub const DEBUG_LED: u8 = 0x81;
-    /// REG_EXCEPTIONDATA.
-    pub const EXCEPTION_DATA: u8 = 0x82;
+    /// A word the core stores as it is ([`super::Core`]'s `words`): this plus its
+    /// [`super::word`] index.
+    pub const WORD: u8 = 0x80;
     /// REG_DISABLEDEXCEPTIONS.
-    pub const DISABLED: u8 = 0x83;
-    /// REG_PING.
-    pub const PING: u8 = 0x84;
+    pub const DISABLED: u8 = WORD + super::word::DISABLED as u8;
     /// The variant's FAULTTIME.
-    pub const FAULT_TIME: u8 = 0x85;
+    pub const FAULT_TIME: u8 = WORD + super::word::FAULT_TIME as u8;
     /// The variant's BUSTIMEOUT.
-    pub const BUS_TIMEOUT: u8 = 0x86;
+    pub const BUS_TIMEOUT: u8 = WORD + super::word::BUS_TIMEOUT as u8;
+    /// REG_RESET.
+    pub const RESET: u8 = 0x83;
+    /// REG_DEBUGLED.
+    pub const DEBUG_LED: u8 = 0x84;
+    /// REG_EXCEPTIONDATA.
+    pub const EXCEPTION_DATA: u8 = 0x85;
+    /// REG_PING.
+    pub const PING: u8 = 0x86;
     /// REGDS_DRIVE_MODE (drive/steer only).
     pub const DRIVE_MODE: u8 = 0x87;
     /// Nothing.
     pub const NONE: u8 = 0xff;
+}
+
+/// Indices of [`Core`]'s `words`.
+mod word {
+    /// DISABLEDEXCEPTIONS.
+    pub const DISABLED: usize = 0;
+    /// FAULTTIME, ms.
+    pub const FAULT_TIME: usize = 1;
+    /// BUSTIMEOUT, ms (0 = off).
+    pub const BUS_TIMEOUT: usize = 2;
+}
+
+/// Where word `index` of a `Core<B>`'s `words` is in it.
+const fn word_at<B: Board>(index: usize) -> usize {
+    offset_of!(Core<B>, words) + 2 * index
 }
 
 /// The [`act`] of a write to `reg` on a board of `variant`: the special registers by id
@@ -745,7 +774,7 @@ mod tests {
                         "{variant:?} {reg}"
                     );
                     let action = action.unwrap();
-                    if action < act::RESET {
+                    if action < act::WORD {
                         params += 1;
                         // A parameter's index decodes to the parameter.
                         let motor = if action & act::M2 != 0 {
@@ -790,6 +819,34 @@ mod tests {
                 Param::from_index(index).map(|p| p as u8),
                 (index <= 10).then_some(index)
             );
+        }
+    }
+
+    #[test]
+    fn the_three_words_are_stored_as_written_and_read_where_their_fields_were() {
+        for (variant, fault_time, bus_timeout) in [
+            (
+                Variant::DriveSteer,
+                id::REGDS_FAULTTIME,
+                id::REGDS_BUSTIMEOUT,
+            ),
+            (Variant::LiftLift, id::REGLL_FAULTTIME, id::REGLL_BUSTIMEOUT),
+        ] {
+            let mut core = Core::new(variant, 3);
+            assert_eq!(
+                core.words,
+                [0, FAULT_TIME_POWER_ON_MS, BUS_TIMEOUT_POWER_ON_MS]
+            );
+            core.apply(id::REG_DISABLEDEXCEPTIONS, 0x1234);
+            core.apply(fault_time, 0x2345);
+            core.apply(bus_timeout, 0x3456);
+            assert_eq!(core.words, [0x1234, 0x2345, 0x3456]);
+            assert_eq!(core.disabled(), 0x1234);
+            assert_eq!(core.context(0, 0).fault_time_ms, 0x2345);
+            // Without an address nothing is applied.
+            let mut off = Core::new(variant, 0);
+            off.apply(fault_time, 7);
+            assert_eq!(off.words[word::FAULT_TIME], FAULT_TIME_POWER_ON_MS);
         }
     }
 
@@ -859,7 +916,7 @@ mod tests {
         let bytes = drive_image.bytes();
         assert_eq!(bytes[motors + kind], 0);
         assert_eq!(bytes[motors + size_of::<Motor>() + kind], 1);
-        let fault_time = offset_of!(Core<DriveSteerBoard>, fault_time_ms);
+        let fault_time = word_at::<DriveSteerBoard>(word::FAULT_TIME);
         assert_eq!(
             bytes[fault_time..fault_time + 2],
             FAULT_TIME_POWER_ON_MS.to_le_bytes()
