@@ -303,7 +303,7 @@ impl<B: Board> Core<B> {
             act::RESET => {
                 let bits = ResetBits(low);
                 if let Some(event) = bits.event() {
-                    self.state.handle(event, self.disabled());
+                    self.handle(event);
                 }
                 if bits.zero_odometer() && self.variant().has_drive() {
                     self.odometer.clear();
@@ -314,7 +314,7 @@ impl<B: Board> Core<B> {
                 self.pending.flags |= DEBUG_LED;
             }
             act::EXCEPTION_DATA => {
-                self.state.handle(Event::RemoteWrite, self.disabled());
+                self.handle(Event::RemoteWrite);
             }
             act::PING => self.pending.flags |= PING,
             act::DRIVE_MODE if self.variant().has_drive() => {
@@ -354,7 +354,7 @@ impl<B: Board> Core<B> {
         if matches!(self.state, State::Running { .. })
             && self.silence.expired(now_ms, self.words[word::BUS_TIMEOUT])
         {
-            self.state.handle(Event::BusSilence, self.disabled());
+            self.handle(Event::BusSilence);
         }
 
         // Per motor, written out twice rather than looped: each motor's fields are then
@@ -570,10 +570,17 @@ impl<B: Board> Core<B> {
         self.words[word::DISABLED]
     }
 
+    /// An event for the state machine ([`State::handle`]) with this board's
+    /// DISABLEDEXCEPTIONS. One out-of-line copy that reads the word itself, so that
+    /// each caller passes only the event.
+    #[inline(never)]
+    fn handle(&mut self, event: Event) {
+        self.state.handle(event, self.disabled());
+    }
+
     fn raise(&mut self, fault: Option<LocalFault>, motor: MotorId) {
         if let Some(fault) = fault {
-            self.state
-                .handle(Event::Fault { fault, motor }, self.disabled());
+            self.handle(Event::Fault { fault, motor });
         }
     }
 
