@@ -47,6 +47,11 @@ macro_rules! division_routines {
         /// Called by [`__udivmodsi4`] and, on the slave, by `shared::slave::divide::div_rem`
         /// straight from an inline `asm!` block (no moves, no stack frame).
         #[no_mangle]
+        // Placed by its section's name where an image links sorted by section name (the
+        // slave): after the functions whose names are mangled (`_R…`), among them its
+        // callers, and before the interrupt handlers (`__vector_…`), so their calls reach it
+        // as RCALLs. Elsewhere the name changes nothing.
+        #[link_section = ".text._S1_drivers_udivmod32"]
         // SAFETY: a complete function in assembly; it touches only the registers named in
         // its doc (all call-clobbered) and leaves r1 at zero, as it found it.
         #[unsafe(naked)]
@@ -160,6 +165,10 @@ macro_rules! mem_routines {
         /// # Safety
         /// As C's `memcpy`: both ranges valid for `n` bytes and disjoint.
         #[no_mangle]
+        // Where an image links sorted by section name (the slave): after the functions whose
+        // names are mangled (`_R…`), before the interrupt handlers (`__vector_…`), within an
+        // RCALL's reach of both its callers there, the boot code and the tick.
+        #[link_section = ".text._S0_memcpy"]
         // SAFETY: a complete function in assembly under the C calling convention: dest in
         // r24:r25 (also the result), src in r22:r23, n in r20:r21; it uses only r0, r20, r21 and
         // the X and Z pointers (r26, r27, r30, r31), all call-clobbered.
@@ -185,6 +194,9 @@ macro_rules! mem_routines {
         /// # Safety
         /// As C's `memset`: the range valid for `n` bytes.
         #[no_mangle]
+        // First where an image links sorted by section name (the slave), next to the boot
+        // code (`__exec_setup`, its one caller there), so its calls are RCALLs.
+        #[link_section = ".text.0_memset"]
         // SAFETY: a complete function in assembly under the C calling convention: dest in
         // r24:r25 (also the result), c in r22:r23, n in r20:r21; it uses only r20, r21 and the X
         // pointer (r26, r27), all call-clobbered.

@@ -148,6 +148,27 @@ pub enum Param {
     CalibMax,
 }
 
+impl Param {
+    /// The parameter whose discriminant is `index` (`Param::Required as u8` is 0 …
+    /// `Param::CalibMax as u8` is 10), `None` above.
+    pub const fn from_index(index: u8) -> Option<Param> {
+        Some(match index {
+            0 => Param::Required,
+            1 => Param::P,
+            2 => Param::I,
+            3 => Param::D,
+            4 => Param::Cap,
+            5 => Param::Decay,
+            6 => Param::Threshold,
+            7 => Param::StallCheck,
+            8 => Param::DeadZone,
+            9 => Param::CalibMin,
+            10 => Param::CalibMax,
+            _ => return None,
+        })
+    }
+}
+
 /// A monitoring register of a motor, refreshed by the slave.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Monitor {
@@ -228,7 +249,7 @@ const LL_TWO: Layout = Layout {
 /// The parameter at an offset from [`Layout::base`] in the shared head of a motor
 /// block. A `match`, not a table: the offsets are the variants' own discriminants, so
 /// the AVR needs no table in RAM, only the bound.
-fn head(offset: u8) -> Option<Param> {
+const fn head(offset: u8) -> Option<Param> {
     Some(match offset {
         0 => Param::Required,
         1 => Param::P,
@@ -253,7 +274,7 @@ impl Layout {
     }
 
     /// The parameter a register id holds, if it is one of this motor's parameters.
-    pub fn param(&self, reg: u8) -> Option<Param> {
+    pub const fn param(&self, reg: u8) -> Option<Param> {
         if let Some(offset) = reg.checked_sub(self.base) {
             if let Some(param) = head(offset) {
                 return Some(param);

@@ -47,7 +47,7 @@
 //! the lift image carries no drive code; host tests use [`Variant`] itself.
 
 use super::board::{
-    bus_address, Board, DriveSteerBoard, Layout, LiftLiftBoard, Monitor, MotorId, Variant,
+    bus_address, Board, DriveSteerBoard, Layout, LiftLiftBoard, Monitor, MotorId, Param, Variant,
 };
 use super::clock::{self, Clock};
 use super::encoder::{DriveMode, Odometer, SpeedMeter};
@@ -61,7 +61,8 @@ use super::scale::{Mapping, Scale};
 use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
 use super::state::{Cause, Event, LocalFault, ResetBits, State};
 use crate::pid::Fix;
-use crate::regs::{id, DS};
+use crate::progmem::Flash;
+use crate::regs::{id, DS, LL};
 use core::mem::{offset_of, size_of};
 
 /// The tick period the firmware must keep, µs.
@@ -101,10 +102,9 @@ pub struct Core<B: Board = Variant> {
     board: B,
     address: Option<u8>,
     state: State,
-    disabled: u16,
-    fault_time_ms: u16,
-    /// BUSTIMEOUT, ms (0 = off).
-    bus_timeout_ms: u16,
+    /// DISABLEDEXCEPTIONS, FAULTTIME (ms) and BUSTIMEOUT (ms, 0 = off), the registers
+    /// [`Core::apply`] stores as they are, by their index ([`word`]).
+    words: [u16; 3],
     silence: SilenceWatch,
     drive_mode: DriveMode,
     clock: Clock,
@@ -160,9 +160,7 @@ impl<B: Board> Core<B> {
             board,
             address,
             state: State::POWER_UP,
-            disabled: 0,
-            fault_time_ms: FAULT_TIME_POWER_ON_MS,
-            bus_timeout_ms: BUS_TIMEOUT_POWER_ON_MS,
+            words: [0, FAULT_TIME_POWER_ON_MS, BUS_TIMEOUT_POWER_ON_MS],
             silence: SilenceWatch::new(),
             drive_mode: DriveMode::Window,
             clock: Clock::new(),
@@ -198,9 +196,12 @@ impl<B: Board> Core<B> {
         assert!(matches!(self.state, State::Exception(Cause::Boot)));
         let image = Image::ZERO
             .bytes_at(offset_of!(Core<B>, state), &State::POWER_UP_BYTES)
-            .u16(offset_of!(Core<B>, disabled), self.disabled)
-            .u16(offset_of!(Core<B>, fault_time_ms), self.fault_time_ms)
-            .u16(offset_of!(Core<B>, bus_timeout_ms), self.bus_timeout_ms)
+            .u16(word_at::<B>(word::DISABLED), self.words[word::DISABLED])
+            .u16(word_at::<B>(word::FAULT_TIME), self.words[word::FAULT_TIME])
+            .u16(
+                word_at::<B>(word::BUS_TIMEOUT),
+                self.words[word::BUS_TIMEOUT],
+            )
             .byte(offset_of!(Core<B>, drive_mode), self.drive_mode as u8)
             .u16(offset_of!(Core<B>, chassis), self.chassis)
             .byte(pending + offset_of!(Pending, flags), self.pending.flags)
@@ -288,52 +289,51 @@ impl<B: Board> Core<B> {
             return;
         }
         let low = raw.to_le_bytes()[0];
-        match reg {
-            id::REG_RESET => {
+        // What the register does, from the variant's table (ids past it do nothing).
+        let Some(action) = actions(self.variant()).get(usize::from(reg)) else {
+            return;
+        };
+        // A word stored as it is: one indexed store for the three.
+        if let Some(word) = self
+            .words
+            .get_mut(usize::from(action.wrapping_sub(act::WORD)))
+        {
+            *word = raw;
+            return;
+        }
+        match action {
+            act::RESET => {
                 let bits = ResetBits(low);
                 if let Some(event) = bits.event() {
-                    self.state.handle(event, self.disabled);
+                    self.handle(event);
                 }
                 if bits.zero_odometer() && self.variant().has_drive() {
                     self.odometer.clear();
                 }
             }
-            id::REG_DEBUGLED => {
+            act::DEBUG_LED => {
                 self.pending.debug_led = low;
                 self.pending.flags |= DEBUG_LED;
             }
-            id::REG_EXCEPTIONDATA => {
-                self.state.handle(Event::RemoteWrite, self.disabled);
+            act::EXCEPTION_DATA => {
+                self.handle(Event::RemoteWrite);
             }
-            id::REG_DISABLEDEXCEPTIONS => self.disabled = raw,
-            id::REG_PING => self.pending.flags |= PING,
-            _ if reg == self.fault_time_id() => self.fault_time_ms = raw,
-            _ if reg == self.bus_timeout_id() => self.bus_timeout_ms = raw,
-            id::REGDS_DRIVE_MODE if self.variant().has_drive() => {
+            act::PING => self.pending.flags |= PING,
+            act::DRIVE_MODE if self.variant().has_drive() => {
                 self.drive_mode = DriveMode::from_register(raw)
             }
             _ => {
-                // M2's registers all follow M1's (tested), so one lookup finds the motor.
-                let motor = motor_of(self.variant(), reg);
-                if let Some(param) = Layout::of(self.variant(), motor).param(reg) {
-                    let m = &mut self.motors[motor.index()];
+                if let Some(param) = Param::from_index(action & !act::M2) {
+                    // The motor by a choice of two addresses, not an index product.
+                    let [m1, m2] = &mut self.motors;
+                    let (m, motor) = if action & act::M2 != 0 {
+                        (m2, MotorId::M2)
+                    } else {
+                        (m1, MotorId::M1)
+                    };
                     m.set_param(Kind::of(self.board.variant(), motor), param, raw);
                 }
             }
-        }
-    }
-
-    fn fault_time_id(&self) -> u8 {
-        match self.variant() {
-            Variant::DriveSteer => id::REGDS_FAULTTIME,
-            Variant::LiftLift => id::REGLL_FAULTTIME,
-        }
-    }
-
-    fn bus_timeout_id(&self) -> u8 {
-        match self.variant() {
-            Variant::DriveSteer => id::REGDS_BUSTIMEOUT,
-            Variant::LiftLift => id::REGLL_BUSTIMEOUT,
         }
     }
 
@@ -354,9 +354,9 @@ impl<B: Board> Core<B> {
         }
         self.take_pending(now_ms);
         if matches!(self.state, State::Running { .. })
-            && self.silence.expired(now_ms, self.bus_timeout_ms)
+            && self.silence.expired(now_ms, self.words[word::BUS_TIMEOUT])
         {
-            self.state.handle(Event::BusSilence, self.disabled);
+            self.handle(Event::BusSilence);
         }
 
         // Per motor, written out twice rather than looped: each motor's fields are then
@@ -552,7 +552,7 @@ impl<B: Board> Core<B> {
             now_us,
             now_ms,
             in_exception: self.state.in_exception(),
-            fault_time_ms: self.fault_time_ms,
+            fault_time_ms: self.words[word::FAULT_TIME],
         }
     }
 
@@ -564,10 +564,23 @@ impl<B: Board> Core<B> {
         self.raise(fault, motor);
     }
 
+    /// DISABLEDEXCEPTIONS.
+    #[inline(always)]
+    fn disabled(&self) -> u16 {
+        self.words[word::DISABLED]
+    }
+
+    /// An event for the state machine ([`State::handle`]) with this board's
+    /// DISABLEDEXCEPTIONS. One out-of-line copy that reads the word itself, so that
+    /// each caller passes only the event.
+    #[inline(never)]
+    fn handle(&mut self, event: Event) {
+        self.state.handle(event, self.disabled());
+    }
+
     fn raise(&mut self, fault: Option<LocalFault>, motor: MotorId) {
         if let Some(fault) = fault {
-            self.state
-                .handle(Event::Fault { fault, motor }, self.disabled);
+            self.handle(Event::Fault { fault, motor });
         }
     }
 
@@ -580,10 +593,116 @@ impl<B: Board> Core<B> {
     }
 }
 
+/// What a write to a register does in [`Core::apply`]: one byte per register id, in a
+/// table per variant built at compile time ([`action_of`]) and kept in flash, where the
+/// firmware compared the id with each parameter's of both motors.
+mod act {
+    /// A motor's parameter is its [`super::Param`]'s index, plus this bit for M2's.
+    pub const M2: u8 = 0x10;
+    /// A word the core stores as it is ([`super::Core`]'s `words`): this plus its
+    /// [`super::word`] index.
+    pub const WORD: u8 = 0x80;
+    /// REG_DISABLEDEXCEPTIONS.
+    pub const DISABLED: u8 = WORD + super::word::DISABLED as u8;
+    /// The variant's FAULTTIME.
+    pub const FAULT_TIME: u8 = WORD + super::word::FAULT_TIME as u8;
+    /// The variant's BUSTIMEOUT.
+    pub const BUS_TIMEOUT: u8 = WORD + super::word::BUS_TIMEOUT as u8;
+    /// REG_RESET.
+    pub const RESET: u8 = 0x83;
+    /// REG_DEBUGLED.
+    pub const DEBUG_LED: u8 = 0x84;
+    /// REG_EXCEPTIONDATA.
+    pub const EXCEPTION_DATA: u8 = 0x85;
+    /// REG_PING.
+    pub const PING: u8 = 0x86;
+    /// REGDS_DRIVE_MODE (drive/steer only).
+    pub const DRIVE_MODE: u8 = 0x87;
+    /// Nothing.
+    pub const NONE: u8 = 0xff;
+}
+
+/// Indices of [`Core`]'s `words`.
+mod word {
+    /// DISABLEDEXCEPTIONS.
+    pub const DISABLED: usize = 0;
+    /// FAULTTIME, ms.
+    pub const FAULT_TIME: usize = 1;
+    /// BUSTIMEOUT, ms (0 = off).
+    pub const BUS_TIMEOUT: usize = 2;
+}
+
+/// Where word `index` of a `Core<B>`'s `words` is in it.
+const fn word_at<B: Board>(index: usize) -> usize {
+    offset_of!(Core<B>, words) + 2 * index
+}
+
+/// The [`act`] of a write to `reg` on a board of `variant`: the special registers by id
+/// first, then the parameter of the motor whose block may hold it.
+const fn action_of(variant: Variant, reg: u8) -> u8 {
+    let (fault_time, bus_timeout) = match variant {
+        Variant::DriveSteer => (id::REGDS_FAULTTIME, id::REGDS_BUSTIMEOUT),
+        Variant::LiftLift => (id::REGLL_FAULTTIME, id::REGLL_BUSTIMEOUT),
+    };
+    match reg {
+        id::REG_RESET => act::RESET,
+        id::REG_DEBUGLED => act::DEBUG_LED,
+        id::REG_EXCEPTIONDATA => act::EXCEPTION_DATA,
+        id::REG_DISABLEDEXCEPTIONS => act::DISABLED,
+        id::REG_PING => act::PING,
+        _ if reg == fault_time => act::FAULT_TIME,
+        _ if reg == bus_timeout => act::BUS_TIMEOUT,
+        id::REGDS_DRIVE_MODE if variant.has_drive() => act::DRIVE_MODE,
+        _ => {
+            let motor = motor_of(variant, reg);
+            match Layout::of(variant, motor).param(reg) {
+                Some(param) => {
+                    param as u8
+                        | match motor {
+                            MotorId::M1 => 0,
+                            MotorId::M2 => act::M2,
+                        }
+                }
+                None => act::NONE,
+            }
+        }
+    }
+}
+
+/// [`action_of`] for every register of a table of `N`.
+const fn actions_of<const N: usize>(variant: Variant) -> [u8; N] {
+    let mut table = [act::NONE; N];
+    let mut reg = 0;
+    while reg < N {
+        table[reg] = action_of(variant, reg as u8);
+        reg += 1;
+    }
+    table
+}
+
+crate::flash_table! {
+    /// [`action_of`] for each drive/steer register.
+    static DS_ACTIONS: [u8; DS.len()] = actions_of(Variant::DriveSteer);
+}
+
+crate::flash_table! {
+    /// [`action_of`] for each lift/lift register.
+    static LL_ACTIONS: [u8; LL.len()] = actions_of(Variant::LiftLift);
+}
+
+/// The [`act`] table of a variant.
+#[inline(always)]
+fn actions(variant: Variant) -> &'static Flash<[u8]> {
+    match variant {
+        Variant::DriveSteer => DS_ACTIONS.as_slice(),
+        Variant::LiftLift => LL_ACTIONS.as_slice(),
+    }
+}
+
 /// The motor whose parameter block may hold register `reg`: M2 from its first
 /// register on, else M1.
 #[inline(always)]
-fn motor_of(variant: Variant, reg: u8) -> MotorId {
+const fn motor_of(variant: Variant, reg: u8) -> MotorId {
     if reg >= Layout::of(variant, MotorId::M2).base {
         MotorId::M2
     } else {
@@ -610,6 +729,132 @@ mod tests {
         }
         // 2 × (7 + stall check + dead zone) + calibration on the three position motors.
         assert_eq!(found, 4 * 9 + 3 * 2);
+    }
+
+    /// What the firmware did before the table: the special registers by id, then the
+    /// parameter lookup of the motor whose block may hold the id.
+    fn action_by_compares(variant: Variant, reg: u8) -> u8 {
+        let (fault_time, bus_timeout) = match variant {
+            Variant::DriveSteer => (id::REGDS_FAULTTIME, id::REGDS_BUSTIMEOUT),
+            Variant::LiftLift => (id::REGLL_FAULTTIME, id::REGLL_BUSTIMEOUT),
+        };
+        if reg == id::REG_RESET {
+            act::RESET
+        } else if reg == id::REG_DEBUGLED {
+            act::DEBUG_LED
+        } else if reg == id::REG_EXCEPTIONDATA {
+            act::EXCEPTION_DATA
+        } else if reg == id::REG_DISABLEDEXCEPTIONS {
+            act::DISABLED
+        } else if reg == id::REG_PING {
+            act::PING
+        } else if reg == fault_time {
+            act::FAULT_TIME
+        } else if reg == bus_timeout {
+            act::BUS_TIMEOUT
+        } else if reg == id::REGDS_DRIVE_MODE && variant.has_drive() {
+            act::DRIVE_MODE
+        } else {
+            let motor = if reg >= Layout::of(variant, MotorId::M2).base {
+                MotorId::M2
+            } else {
+                MotorId::M1
+            };
+            let m2 = if motor == MotorId::M2 { act::M2 } else { 0 };
+            Layout::of(variant, motor)
+                .param(reg)
+                .map_or(act::NONE, |param| param as u8 | m2)
+        }
+    }
+
+    #[test]
+    fn the_action_tables_hold_each_register_s_action_and_end_with_the_table() {
+        let mut params = 0;
+        for variant in [Variant::DriveSteer, Variant::LiftLift] {
+            let len = variant.board().len();
+            for reg in 0..=u8::MAX {
+                let action = actions(variant).get(usize::from(reg));
+                if reg < len {
+                    assert_eq!(
+                        action,
+                        Some(action_by_compares(variant, reg)),
+                        "{variant:?} {reg}"
+                    );
+                    let action = action.unwrap();
+                    if action < act::WORD {
+                        params += 1;
+                        // A parameter's index decodes to the parameter.
+                        let motor = if action & act::M2 != 0 {
+                            MotorId::M2
+                        } else {
+                            MotorId::M1
+                        };
+                        let param = Param::from_index(action & !act::M2).unwrap();
+                        assert_eq!(Layout::of(variant, motor).param(reg), Some(param));
+                    }
+                } else {
+                    assert_eq!(action, None, "{variant:?} {reg}");
+                }
+            }
+        }
+        // 2 × (7 + stall check + dead zone) + calibration on the three position motors.
+        assert_eq!(params, 4 * 9 + 3 * 2);
+        let ds = |reg| actions(Variant::DriveSteer).get(usize::from(reg));
+        let ll = |reg| actions(Variant::LiftLift).get(usize::from(reg));
+        assert_eq!(ds(id::REG_RESET), Some(act::RESET));
+        assert_eq!(ds(id::REG_PING), Some(act::PING));
+        assert_eq!(ds(id::REGDS_FAULTTIME), Some(act::FAULT_TIME));
+        assert_eq!(ds(id::REGDS_BUSTIMEOUT), Some(act::BUS_TIMEOUT));
+        assert_eq!(ds(id::REGDS_DRIVE_MODE), Some(act::DRIVE_MODE));
+        assert_eq!(ds(id::REGDS_DRIVE_REQSPEED), Some(0));
+        assert_eq!(ds(id::REGDS_DRIVE_PGAIN), Some(1));
+        assert_eq!(ds(id::REGDS_DRIVE_DEADZONE), Some(8));
+        assert_eq!(ds(id::REGDS_STEER_REQPOS), Some(act::M2));
+        assert_eq!(ds(id::REGDS_STEER_STALLCHECK), Some(act::M2 | 7));
+        assert_eq!(ds(id::REGDS_STEER_CALIBMIN), Some(act::M2 | 9));
+        assert_eq!(ds(id::REGDS_STEER_CALIBMAX), Some(act::M2 | 10));
+        assert_eq!(ds(id::REGDS_DRIVE_ACTUALSPEED), Some(act::NONE));
+        assert_eq!(ds(id::REG_STATUS), Some(act::NONE));
+        assert_eq!(ll(id::REGLL_FAULTTIME), Some(act::FAULT_TIME));
+        assert_eq!(ll(id::REGLL_ONE_REQPOS), Some(0));
+        assert_eq!(ll(id::REGLL_ONE_CALIBMAX), Some(10));
+        assert_eq!(ll(id::REGLL_TWO_REQPOS), Some(act::M2));
+        assert_eq!(ll(id::REGLL_TWO_CALIBMAX), Some(act::M2 | 10));
+        assert_eq!(ll(id::REGLL_TWO_DEADZONE), Some(act::M2 | 8));
+        for index in 0..=u8::MAX {
+            assert_eq!(
+                Param::from_index(index).map(|p| p as u8),
+                (index <= 10).then_some(index)
+            );
+        }
+    }
+
+    #[test]
+    fn the_three_words_are_stored_as_written_and_read_where_their_fields_were() {
+        for (variant, fault_time, bus_timeout) in [
+            (
+                Variant::DriveSteer,
+                id::REGDS_FAULTTIME,
+                id::REGDS_BUSTIMEOUT,
+            ),
+            (Variant::LiftLift, id::REGLL_FAULTTIME, id::REGLL_BUSTIMEOUT),
+        ] {
+            let mut core = Core::new(variant, 3);
+            assert_eq!(
+                core.words,
+                [0, FAULT_TIME_POWER_ON_MS, BUS_TIMEOUT_POWER_ON_MS]
+            );
+            core.apply(id::REG_DISABLEDEXCEPTIONS, 0x1234);
+            core.apply(fault_time, 0x2345);
+            core.apply(bus_timeout, 0x3456);
+            assert_eq!(core.words, [0x1234, 0x2345, 0x3456]);
+            assert_eq!(core.disabled(), 0x1234);
+            assert_eq!(core.context(0, 0).fault_time_ms, 0x2345);
+            // Without an address nothing is applied.
+            let mut off = Core::new(variant, 0);
+            off.apply(fault_time, 7);
+            assert_eq!(off.words[word::FAULT_TIME], FAULT_TIME_POWER_ON_MS);
+        }
     }
 
     #[test]
@@ -678,7 +923,7 @@ mod tests {
         let bytes = drive_image.bytes();
         assert_eq!(bytes[motors + kind], 0);
         assert_eq!(bytes[motors + size_of::<Motor>() + kind], 1);
-        let fault_time = offset_of!(Core<DriveSteerBoard>, fault_time_ms);
+        let fault_time = word_at::<DriveSteerBoard>(word::FAULT_TIME);
         assert_eq!(
             bytes[fault_time..fault_time + 2],
             FAULT_TIME_POWER_ON_MS.to_le_bytes()

@@ -11,7 +11,7 @@ use super::scale::{Mapping, Scale, Unmapping};
 use super::state::LocalFault;
 use crate::pid::{Duty, Fix, Form, Gains, Pid, Step};
 use crate::regs::{id, DS};
-use core::mem::offset_of;
+use core::mem::{offset_of, size_of};
 
 /// The monitoring registers of a motor are refreshed at most this often, µs.
 pub const MONITOR_PERIOD_US: u32 = 10_000;
@@ -196,12 +196,10 @@ impl Params {
     pub fn set(&mut self, kind: Kind, param: Param, raw: u16) {
         // One conversion for every parameter, then one store.
         let value = kind.param_unmapping(param).unmap(raw);
-        let g = &mut self.gains;
-        // The seven plain values through one store (one copy of its four byte stores).
-        let slot = match param {
-            Param::Threshold => return self.threshold = Scale::whole(value),
+        match param {
+            Param::Threshold => self.threshold = Scale::whole(value),
             Param::StallCheck => {
-                return self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
+                self.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
             }
             Param::CalibMin | Param::CalibMax => {
                 // One rebuild for both ends: the other end kept.
@@ -210,18 +208,61 @@ impl Params {
                     Param::CalibMin => (value, c.max()),
                     _ => (c.min(), value),
                 };
-                return *c = Calibration::new(min, max);
+                *c = Calibration::new(min, max);
             }
-            Param::Required => &mut self.required,
-            Param::P => &mut g.p,
-            Param::I => &mut g.i,
-            Param::D => &mut g.d,
-            Param::Cap => &mut g.cap,
-            Param::Decay => &mut g.decay,
-            Param::DeadZone => &mut g.dead_zone,
-        };
-        *slot = value;
+            // The seven plain values through one store at the parameter's offset, from
+            // a table, where a `match` choosing the field took a tree of compares.
+            _ => {
+                let at = PLAIN_AT.get(param as usize).unwrap_or(PLAIN_AT_NONE);
+                self.put_plain(at, value);
+            }
+        }
     }
+
+    /// Stores `value` in the plain value at offset `at` ([`PLAIN_AT`]).
+    #[allow(unsafe_code)]
+    #[inline(always)]
+    fn put_plain(&mut self, at: u8, value: Fix) {
+        // The offset of a plain value, not past the parameters' end (also for a table
+        // entry that `set` never reads).
+        debug_assert!(usize::from(at) + size_of::<Fix>() <= size_of::<Params>());
+        // SAFETY: every `PLAIN_AT` entry (and `PLAIN_AT_NONE`) is the offset of a `Fix`
+        // field of `Params` (a host test checks each against the field), so the write
+        // stays inside `*self` and replaces one field's value with another valid value
+        // (a `Fix` is valid for any bits); unaligned, as the fields may be on the host.
+        unsafe {
+            core::ptr::from_mut(self)
+                .cast::<u8>()
+                .add(usize::from(at))
+                .cast::<Fix>()
+                .write_unaligned(value)
+        }
+    }
+}
+
+/// [`PLAIN_AT`]'s value for a parameter that is not plain: [`Params::required`]'s offset
+/// (never used so; an offset inside the parameters all the same).
+const PLAIN_AT_NONE: u8 = offset_of!(Params, required) as u8;
+
+/// The offset in [`Params`] of each plain parameter's value (indexed by [`Param`]; the
+/// threshold's, the stall check's and the calibration's entries are
+/// [`PLAIN_AT_NONE`]), for [`Params::set`].
+const fn plain_at() -> [u8; 11] {
+    let gains = offset_of!(Params, gains);
+    let mut table = [PLAIN_AT_NONE; 11];
+    table[Param::Required as usize] = offset_of!(Params, required) as u8;
+    table[Param::P as usize] = (gains + offset_of!(Gains, p)) as u8;
+    table[Param::I as usize] = (gains + offset_of!(Gains, i)) as u8;
+    table[Param::D as usize] = (gains + offset_of!(Gains, d)) as u8;
+    table[Param::Cap as usize] = (gains + offset_of!(Gains, cap)) as u8;
+    table[Param::Decay as usize] = (gains + offset_of!(Gains, decay)) as u8;
+    table[Param::DeadZone as usize] = (gains + offset_of!(Gains, dead_zone)) as u8;
+    table
+}
+
+crate::flash_table! {
+    /// [`plain_at`], in flash.
+    static PLAIN_AT: [u8; 11] = plain_at();
 }
 
 /// The raw monitoring values of a motor, refreshed from its updates.
@@ -737,6 +778,78 @@ fn interval_ms(units: u16) -> u16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`Params::set`] as it was before [`PLAIN_AT`]: a `match` choosing the field.
+    fn set_by_match(params: &mut Params, kind: Kind, param: Param, raw: u16) {
+        let value = kind.param_unmapping(param).unmap(raw);
+        let g = &mut params.gains;
+        let slot = match param {
+            Param::Threshold => return params.threshold = Scale::whole(value),
+            Param::StallCheck => {
+                return params.stall_check = u8::try_from(Scale::whole(value)).unwrap_or(u8::MAX)
+            }
+            Param::CalibMin | Param::CalibMax => {
+                let c = &mut params.calibration;
+                let (min, max) = match param {
+                    Param::CalibMin => (value, c.max()),
+                    _ => (c.min(), value),
+                };
+                return *c = Calibration::new(min, max);
+            }
+            Param::Required => &mut params.required,
+            Param::P => &mut g.p,
+            Param::I => &mut g.i,
+            Param::D => &mut g.d,
+            Param::Cap => &mut g.cap,
+            Param::Decay => &mut g.decay,
+            Param::DeadZone => &mut g.dead_zone,
+        };
+        *slot = value;
+    }
+
+    #[test]
+    fn set_stores_each_parameter_where_the_match_did_for_every_raw_value() {
+        // Each plain parameter's table entry is its own field's offset.
+        let gains = offset_of!(Params, gains);
+        let expected = [
+            (Param::Required, offset_of!(Params, required)),
+            (Param::P, gains + offset_of!(Gains, p)),
+            (Param::I, gains + offset_of!(Gains, i)),
+            (Param::D, gains + offset_of!(Gains, d)),
+            (Param::Cap, gains + offset_of!(Gains, cap)),
+            (Param::Decay, gains + offset_of!(Gains, decay)),
+            (Param::DeadZone, gains + offset_of!(Gains, dead_zone)),
+        ];
+        for (param, at) in expected {
+            assert_eq!(PLAIN_AT.get(param as usize), Some(at as u8), "{param:?}");
+        }
+        assert_eq!(PLAIN_AT.get(11), None);
+        // Every parameter, both kinds, every raw value, from a start where every field
+        // differs from the others: the same parameters as the match gave.
+        let mut start = Params::POWER_ON;
+        set_by_match(&mut start, Kind::Position, Param::P, 0x1111);
+        set_by_match(&mut start, Kind::Position, Param::I, 0x2222);
+        set_by_match(&mut start, Kind::Position, Param::D, 0x3333);
+        set_by_match(&mut start, Kind::Position, Param::Cap, 0x4444);
+        set_by_match(&mut start, Kind::Position, Param::Decay, 0x5555);
+        set_by_match(&mut start, Kind::Position, Param::DeadZone, 0x6666);
+        set_by_match(&mut start, Kind::Position, Param::Required, 0x7777);
+        let mut changed = 0u32;
+        for kind in [Kind::Drive, Kind::Position] {
+            for index in 0..11 {
+                let param = Param::from_index(index).unwrap();
+                for raw in 0..=u16::MAX {
+                    let mut a = start;
+                    let mut b = start;
+                    a.set(kind, param, raw);
+                    set_by_match(&mut b, kind, param, raw);
+                    assert_eq!(a, b, "{kind:?} {param:?} {raw:#x}");
+                    changed += u32::from(a != start);
+                }
+            }
+        }
+        assert!(changed > 2 * 11 * 30_000, "{changed}");
+    }
 
     /// A monitoring value's raw value by its [`Scale`] (0 for CURRENT, which has none).
     fn map(scale: Option<Scale>, value: Fix) -> u16 {

@@ -127,8 +127,11 @@ impl<B: Board> RegisterFile<B> {
         }
     }
 
-    /// [`RegisterFile::set_run`], not inlined.
+    /// [`RegisterFile::set_run`], not inlined. On the AVR its section's name places it
+    /// after the interrupt handlers (the slave links sorted by section name), within an
+    /// RCALL's reach of its one caller, the tick.
     #[inline(never)]
+    #[cfg_attr(target_arch = "avr", link_section = ".text.z_set_run")]
     pub fn set_run_outlined(&mut self, first: u8, raws: &[u16]) {
         self.set_run(first, raws);
     }
@@ -174,7 +177,9 @@ impl<B: Board> RegisterFile<B> {
         };
     }
 
-    /// TWI: the next byte the master reads.
+    /// TWI: the next byte the master reads. On the AVR its section's name places it after
+    /// the interrupt handlers, within an RCALL's reach of the TWI's.
+    #[cfg_attr(target_arch = "avr", link_section = ".text.z_read")]
     pub fn read(&mut self) -> u8 {
         let Phase::Reading { id, byte } = self.phase else {
             return MISSING;

@@ -175,12 +175,13 @@ impl ResetBits {
     /// reset alone (the original spins until the watchdog fires, so nothing after it
     /// runs), otherwise leaving the exception.
     pub const fn event(self) -> Option<Event> {
-        if self.0 & Self::HARD != 0 {
-            Some(Event::HardReset)
-        } else if self.0 & Self::LEAVE != 0 {
-            Some(Event::Leave)
-        } else {
+        // Neither bit first: one test before the choice of two events.
+        if self.0 & (Self::HARD | Self::LEAVE) == 0 {
             None
+        } else if self.0 & Self::HARD != 0 {
+            Some(Event::HardReset)
+        } else {
+            Some(Event::Leave)
         }
     }
 
@@ -258,6 +259,28 @@ impl State {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reset_bits_give_the_events_of_the_hard_bit_first_form_for_every_byte() {
+        let mut events = [0; 3];
+        for byte in 0..=u8::MAX {
+            // The form before the neither-bit test: hard reset first, then leave.
+            let expected = if byte & ResetBits::HARD != 0 {
+                Some(Event::HardReset)
+            } else if byte & ResetBits::LEAVE != 0 {
+                Some(Event::Leave)
+            } else {
+                None
+            };
+            assert_eq!(ResetBits(byte).event(), expected, "{byte:#x}");
+            events[match expected {
+                None => 0,
+                Some(Event::Leave) => 1,
+                _ => 2,
+            }] += 1;
+        }
+        assert_eq!(events, [64, 64, 128]);
+    }
 
     #[test]
     #[allow(unsafe_code)]
