@@ -16,8 +16,6 @@
 #[cfg(target_arch = "avr")]
 use super::words::{halves, join};
 
-use super::product::wide;
-
 /// `(n / d, n % d)`; `(u32::MAX, n)` when `d` is 0 (no panic on any input).
 ///
 /// On the AVR a call of the image's runtime division loop, `drivers_udivmod32`
@@ -72,25 +70,6 @@ pub fn div_rem(n: u32, d: u32) -> (u32, u32) {
     (quotient, rem)
 }
 
-/// `⌊us / 1000⌋`. Below 2^16 µs (every update interval but the drive's window and a
-/// stalled one) without a division: ⌊(us/8)/125⌋ by a reciprocal multiply in 16 bits.
-/// From 2^16 µs on (the window's 150 ms, once every 150 ticks) it is [`div_rem`]'s:
-/// some 1,060 cycles more on that tick (measured: the settled tick's maximum), 6 a tick
-/// on average, for 150–160 B less flash than a second reciprocal.
-#[inline(always)]
-pub fn div_1000(us: u32) -> u32 {
-    // `us < 2^16` as its two high bytes OR-ed: a one-byte test on the AVR, where the
-    // 32-bit comparison materialises a flag.
-    let [_, _, b2, b3] = us.to_le_bytes();
-    if b2 | b3 == 0 {
-        // y = ⌊us/8⌋ < 2^13, and ⌊y/125⌋ = ⌊y·8389/2^20⌋ for every such y (tested
-        // exhaustively), one 16×16-bit product whose high half is shifted.
-        let y = (us as u16) >> 3;
-        return u32::from(((wide(y, 8389) >> 16) as u16) >> 4);
-    }
-    div_rem(us, 1000).0
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,25 +103,5 @@ mod tests {
             }
         }
         assert_eq!(div_rem(5, 0), (u32::MAX, 5));
-    }
-
-    #[test]
-    fn div_1000_is_exact() {
-        for us in 0..1u32 << 20 {
-            assert_eq!(div_1000(us), us / 1000, "{us}");
-        }
-        // Bits in the top byte only (the fast path's test ORs the two high bytes).
-        for us in [
-            u32::MAX,
-            0x8000_0000,
-            4_294_967_000,
-            123_456_789,
-            0x0100_0000,
-            0x0100_ffff,
-            0xff00_0000,
-            0xff00_03e7,
-        ] {
-            assert_eq!(div_1000(us), us / 1000, "{us}");
-        }
     }
 }

@@ -6,7 +6,7 @@
 //! would cost all of them in flash. [`Image`] lays those bytes out at compile time, at
 //! the target's own field offsets (`offset_of!`), and [`Image::pairs`] turns them into
 //! (step, byte) pairs: the write pointer moves on by `step` bytes, then stores `byte`.
-//! [`apply`] is that loop; the firmware runs [`apply_from_flash`], the same in seven
+//! [`apply`] is that loop; the firmware runs `apply_from_flash`, the same in seven
 //! instructions a pair over a table in flash.
 
 /// `N` bytes being laid out at compile time, all zero to begin with.

@@ -68,7 +68,7 @@ const LED1: Mask = 1;
 /// LED2's bit.
 const LED2: Mask = 2;
 
-/// One of the two LEDs, its discriminant its bit in a [`Mask`]: no LED is 0, so the
+/// One of the two LEDs, its discriminant its bit in a `Mask`: no LED is 0, so the
 /// zero bytes of an `Option<(Led, _)>` are `None` (the firmware's core starts as zero
 /// bytes: see [`super::image`]).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
