@@ -247,19 +247,13 @@ const LL_TWO: Layout = Layout {
 };
 
 /// The parameter at an offset from [`Layout::base`] in the shared head of a motor
-/// block. A `match`, not a table: the offsets are the variants' own discriminants, so
-/// the AVR needs no table in RAM, only the bound.
+/// block: the offsets are the variants' own discriminants, so only the bound is new.
 const fn head(offset: u8) -> Option<Param> {
-    Some(match offset {
-        0 => Param::Required,
-        1 => Param::P,
-        2 => Param::I,
-        3 => Param::D,
-        4 => Param::Cap,
-        5 => Param::Decay,
-        6 => Param::Threshold,
-        _ => return None,
-    })
+    if offset <= Param::Threshold as u8 {
+        Param::from_index(offset)
+    } else {
+        None
+    }
 }
 
 impl Layout {
