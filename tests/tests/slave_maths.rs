@@ -394,7 +394,7 @@ fn the_saturating_age_matches_the_host_for_every_gap() {
 
 /// The fixture's op-20 image, byte `i` (as `fixture_slave_maths` has it).
 fn sample_byte(i: usize) -> u8 {
-    if (i < 120 && i % 3 == 0) || i == 400 || i == 599 {
+    if (i < 120 && i.is_multiple_of(3)) || i == 400 || i == 599 {
         (i * 37 % 255 + 1) as u8
     } else {
         0

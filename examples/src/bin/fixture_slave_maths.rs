@@ -82,7 +82,7 @@ fn age_sweep(age: u16) -> (u32, u32) {
 /// Op 20's image: 600 bytes, nonzero on every third of the first 120 (from byte 0), at
 /// 400 (after a gap longer than a step: a pair that stores a zero on the way) and at 599.
 const fn sample_byte(i: usize) -> u8 {
-    if (i < 120 && i % 3 == 0) || i == 400 || i == 599 {
+    if (i < 120 && i.is_multiple_of(3)) || i == 400 || i == 599 {
         (i * 37 % 255 + 1) as u8
     } else {
         0
