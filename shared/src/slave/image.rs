@@ -65,23 +65,7 @@ impl<const N: usize> Image<N> {
     /// How many pairs [`Image::pairs`] gives: one per nonzero byte, and one more for
     /// each gap longer than a step.
     pub const fn len(&self) -> usize {
-        // The same walk as `fill`, counting.
-        let mut count = 0;
-        let mut gap = 0;
-        let mut i = 0;
-        while i < N {
-            if gap > MAX_STEP {
-                count += 1;
-                gap -= MAX_STEP;
-            }
-            if self.bytes[i] != 0 {
-                count += 1;
-                gap = 0;
-            }
-            gap += 1;
-            i += 1;
-        }
-        count
+        self.walk(None)
     }
 
     /// Whether every byte is zero (no pairs).
@@ -103,24 +87,35 @@ impl<const N: usize> Image<N> {
             out.len() == self.len(),
             "the pairs' length must be the image's len()"
         );
+        self.walk(Some(out));
+    }
+
+    /// The one walk behind [`Image::len`] and [`Image::fill`]: counts the pairs, and
+    /// writes them to `out` when there is one.
+    const fn walk(&self, mut out: Option<&mut [[u8; 2]]>) -> usize {
         let mut k = 0;
         // The pointer starts on byte 0: a nonzero byte 0 takes a step of 0.
         let mut gap = 0;
         let mut i = 0;
         while i < N {
             if gap > MAX_STEP {
-                out[k] = [MAX_STEP as u8, 0];
+                if let Some(out) = &mut out {
+                    out[k] = [MAX_STEP as u8, 0];
+                }
                 k += 1;
                 gap -= MAX_STEP;
             }
             if self.bytes[i] != 0 {
-                out[k] = [gap as u8, self.bytes[i]];
+                if let Some(out) = &mut out {
+                    out[k] = [gap as u8, self.bytes[i]];
+                }
                 k += 1;
                 gap = 0;
             }
             gap += 1;
             i += 1;
         }
+        k
     }
 }
 
