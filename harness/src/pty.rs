@@ -11,9 +11,10 @@
 //! the port cannot come from the line itself. Instead the pty watches its path with
 //! inotify: [`Pty::host_event`] reports each open and the last close by a host
 //! program, and a caller that stands for an Uno resets the chip on open (as the
-//! twin does). While no host has the port open, firmware output is discarded, as
-//! bytes sent to a closed USB serial port are, so a host that opens the port never
-//! reads a stale banner.
+//! twin does), and on the last close when the host left HUPCL set
+//! ([`Pty::hangs_up_on_close`]). While no host has the port open, firmware output is
+//! discarded, as bytes sent to a closed USB serial port are, so a host that opens the
+//! port never reads a stale banner.
 
 use std::fs::File;
 use std::io::{self, Read, Write};
@@ -24,7 +25,7 @@ use std::time::{Duration, Instant};
 use nix::fcntl::{fcntl, FcntlArg, OFlag};
 use nix::pty::openpty;
 use nix::sys::inotify::{AddWatchFlags, InitFlags, Inotify};
-use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
+use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, ControlFlags, SetArg};
 
 use crate::{Avr, HarnessError};
 
@@ -86,6 +87,9 @@ impl Pty {
         let pair = openpty(None, None)?;
         let mut termios = tcgetattr(&pair.slave)?;
         cfmakeraw(&mut termios);
+        // HUPCL on, as a USB serial port starts (a pty starts without it), so a host
+        // that keeps the default resets the board when it closes the port.
+        termios.control_flags.insert(ControlFlags::HUPCL);
         tcsetattr(&pair.slave, SetArg::TCSANOW, &termios)?;
         let flags = OFlag::from_bits_truncate(fcntl(pair.master.as_fd(), FcntlArg::F_GETFL)?);
         fcntl(
@@ -117,6 +121,14 @@ impl Pty {
     /// Whether a host program has the port open.
     pub fn host_connected(&self) -> bool {
         self.host_opens > 0
+    }
+
+    /// Whether closing the port drops DTR: the termios HUPCL flag the host left set (the
+    /// default, and what the original PC library sets). On an Uno that resets the board
+    /// (reference §4.1). Read from the port's own settings, which outlive the host's close
+    /// because this side keeps the port open.
+    pub fn hangs_up_on_close(&self) -> bool {
+        tcgetattr(&self._device).is_ok_and(|t| t.control_flags.contains(ControlFlags::HUPCL))
     }
 
     /// Reports the most recent change since the last call: `Opened` if a host opened

@@ -95,3 +95,103 @@ fn hostctl_and_the_twin_agree_on_the_default_link() {
         twin::paths::control_of(&twin::paths::default_link())
     );
 }
+
+/// Each controller's watchdog resets, from the twin's status (its line lists the master
+/// first, then controllers 1..9).
+fn slave_resets(control: &std::path::Path) -> Vec<u64> {
+    let status = twin::control::send(control, "status").expect("the twin answers");
+    let line = status
+        .lines()
+        .find_map(|l| l.strip_prefix("watchdog resets (master, 1..9): "))
+        .expect("a watchdog line in the status");
+    let counts: Vec<u64> = line
+        .trim_matches(['[', ']'])
+        .split(", ")
+        .map(|n| n.parse().expect("a count"))
+        .collect();
+    assert_eq!(counts.len(), 10, "{line}");
+    counts[1..].to_vec()
+}
+
+/// Every wheel's drive speed (ticks/s), from the twin's status table.
+fn drive_speeds(control: &std::path::Path) -> Vec<f64> {
+    let status = twin::control::send(control, "status").expect("the twin answers");
+    let rows = status
+        .lines()
+        .skip_while(|l| !l.starts_with("wheel  drive"));
+    rows.skip(1)
+        .map(|row| row.split_whitespace().nth(1).expect("a speed"))
+        .map(|speed| speed.parse().expect("a number"))
+        .collect()
+}
+
+#[test]
+fn closing_the_port_stops_a_rover_left_driving() {
+    let dir = std::env::temp_dir().join(format!("twin-hangup-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("port");
+    let control = twin::paths::control_of(&link);
+    let (_path, stop, thread) = start_twin(Some(link.clone()));
+    let port = link.display().to_string();
+    let mut clock = hostctl::twin::clock_for(&port);
+
+    // A script that ends with the rover driving, run over a port this test holds open.
+    let script = dir.join("drive.rover");
+    std::fs::write(&script, "calibrate\nreset\ndrive all 1000\nwait 5\n").unwrap();
+    let args = ["hostctl", "run", &script.display().to_string()];
+    let cli = <hostctl::cli::Cli as clap::Parser>::try_parse_from(args).unwrap();
+    let plan = hostctl::plan(&cli.command).unwrap();
+    let style = hostctl::Style {
+        json: false,
+        in_place: false,
+    };
+    let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
+    hostctl::execute_with_clock(&plan, &mut serial, style, &mut Vec::new(), &mut *clock)
+        .expect("the script runs");
+    let driving = drive_speeds(&control);
+    assert_eq!(driving.len(), 6);
+    assert!(
+        driving.iter().all(|&s| s > 900.0),
+        "driving at the end: {driving:?}"
+    );
+    let before = slave_resets(&control);
+    // Closed as hostctl closes it: HUPCL is the serial port's default, as on the
+    // original library's port.
+    drop(serial);
+
+    // The master resets on the close and hard-resets every controller: all coast down.
+    clock.sleep(Duration::from_millis(1_500));
+    let after = slave_resets(&control);
+    for (b, a) in before.iter().zip(&after) {
+        assert_eq!(*a, b + 1, "one hard reset each: {before:?} -> {after:?}");
+    }
+    let coasting = drive_speeds(&control);
+    for (d, c) in driving.iter().zip(&coasting) {
+        assert!(*c < d * 0.7, "coasting down: {driving:?} -> {coasting:?}");
+    }
+
+    // A program that clears HUPCL closes without a reset: nothing reboots.
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(&link)
+        .unwrap();
+    let mut termios = nix::sys::termios::tcgetattr(&file).unwrap();
+    termios
+        .control_flags
+        .remove(nix::sys::termios::ControlFlags::HUPCL);
+    nix::sys::termios::tcsetattr(&file, nix::sys::termios::SetArg::TCSANOW, &termios).unwrap();
+    clock.sleep(Duration::from_millis(700));
+    let opened = slave_resets(&control);
+    drop(file);
+    clock.sleep(Duration::from_millis(700));
+    assert_eq!(
+        slave_resets(&control),
+        opened,
+        "no reset on a close without HUPCL"
+    );
+
+    stop.store(true, Ordering::SeqCst);
+    thread.join().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}

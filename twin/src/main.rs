@@ -5,7 +5,8 @@
 //! first line, and serves it paced to real time until interrupted (SIGINT, SIGTERM, SIGHUP),
 //! `--seconds` of emulated time have passed, or (with `--idle-exit`) no program has had the
 //! port open for a while; then it removes its link and control socket. Opening the port
-//! resets the master, as the Uno's DTR auto-reset does. Faults are injected at start
+//! resets the master, as the Uno's DTR auto-reset does, and so does closing it with HUPCL
+//! set (the port's default: DTR drops). Faults are injected at start
 //! (`--fault`) or while it runs (`twin inject CMD…`, over the control socket `<link>.ctl`).
 
 use std::io::Write;

@@ -2,7 +2,7 @@
 //! tests that open the pty as a host program would.
 //!
 //! Each turn of the loop: reset the master if a program has just opened the port (the Uno's
-//! DTR auto-reset), move bytes between the pty and the master's serial line, run a slice of
+//! DTR auto-reset) or closed it with HUPCL set, move bytes between the pty and the master's serial line, run a slice of
 //! emulated time, move bytes again, answer the control socket, and (when paced) sleep until
 //! the wall clock has caught up with emulated time.
 
@@ -84,7 +84,15 @@ impl Server {
     }
 
     fn pump(&mut self) -> Result<(), TwinError> {
-        if self.pty.host_event() == Some(HostEvent::Opened) {
+        // The Uno resets when a program opens the port (DTR auto-reset) and, with HUPCL
+        // set, when the last one closes it (DTR drops, reference §4.1): the master then
+        // hard-resets every slave, so a rover left driving stops with its program.
+        let reset = match self.pty.host_event() {
+            Some(HostEvent::Opened) => true,
+            Some(HostEvent::Closed) => self.pty.hangs_up_on_close(),
+            None => false,
+        };
+        if reset {
             self.rover.reset_master();
         }
         self.pty
