@@ -68,11 +68,20 @@ fn refused(args: &str) -> String {
 
 // ---- write ----
 
+/// The replies to a write on a controller and the status read that follows it (set 7 holds
+/// REG_STATUS, then its value): running, or in exception.
+const WRITTEN_RUNNING: [&[u8]; 3] = [&[0x00], &[0x01], &[0x00, 0x00]];
+const WRITTEN_IN_EXCEPTION: [&[u8]; 3] = [&[0x00], &[0x01], &[0x01, 0x00]];
+
 #[test]
 fn write_drive_speed_sends_the_reference_frame() {
-    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &[[0x00]]);
+    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 12 01 09 fe 9f"]);
+    // The write, then the controller's status through the scratch set.
+    assert_eq!(
+        o.port.frames_hex(),
+        ["06 12 01 09 fe 9f", "04 14 07 03", "03 13 07"]
+    );
     assert_eq!(
         o.out,
         "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n"
@@ -80,15 +89,66 @@ fn write_drive_speed_sends_the_reference_frame() {
 }
 
 #[test]
+fn a_write_that_nothing_will_act_on_says_so() {
+    // Fresh from the port's reboot, the controller is in its boot exception.
+    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n\
+         note: controller 1 is in exception (every controller is after the port opens, which \
+         reboots the rover): the value is stored, but nothing acts on it until the exception \
+         is reset, and the next hostctl command reboots the rover again. To see it act, put \
+         `reset` and this write in one script: `hostctl run FILE`.\n"
+    );
+    let o = hostctl("--json write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
+    assert!(o.out.ends_with(",\"in_exception\":true}\n"), "{}", o.out);
+    // A status that cannot be read leaves the write reported, with the reason.
+    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &[[0x00]]);
+    o.result.unwrap();
+    assert!(
+        o.out
+            .contains("\nnote: the controller's status could not be read afterwards: "),
+        "{}",
+        o.out
+    );
+}
+
+#[test]
+fn a_position_right_after_the_port_opened_is_not_called_degrees() {
+    let note = "note: not degrees: opening the port rebooted the rover, so the board is on its \
+                boot calibration (pot 0..1023 as -512..512, clamped to the register's range). \
+                Positions are degrees after `calibrate`, in one `hostctl run FILE` script.\n";
+    let o = hostctl("read 1 STEER_ACTUALPOS", &[&[0x01][..], &[0xfe, 0xff]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        format!("device 1 REGDS_STEER_ACTUALPOS = 200.000 deg (raw 0xfffe)\n{note}")
+    );
+    let o = hostctl("--json read 3 ONE_ACTUALPOS", &[&[0x01][..], &[0xfe, 0xff]]);
+    assert!(
+        o.out.ends_with(",\"boot_calibration\":true}\n"),
+        "{}",
+        o.out
+    );
+    let o = hostctl("write 3 ONE_REQPOS 20", &WRITTEN_RUNNING);
+    assert!(o.out.ends_with(note), "{}", o.out);
+    // The calibration registers are degrees whatever the board holds.
+    let o = hostctl("read 2 STEER_CALIBMAX", &[&[0x01][..], &[0xc4]]);
+    assert!(!o.out.contains("note"), "{}", o.out);
+}
+
+#[test]
 fn write_lift_and_master_reset_send_the_reference_frames() {
-    let o = hostctl("write 3 REGLL_ONE_REQPOS 20", &[[0x00]]);
+    let o = hostctl("write 3 REGLL_ONE_REQPOS 20", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 32 01 09 cb 8c"]);
+    assert_eq!(o.port.frames_hex()[0], "06 32 01 09 cb 8c");
 
-    let o = hostctl("write 3 regll_two_reqpos 20", &[[0x00]]);
+    let o = hostctl("write 3 regll_two_reqpos 20", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 32 01 1b cb 8c"]);
+    assert_eq!(o.port.frames_hex()[0], "06 32 01 1b cb 8c");
 
+    // The master is not left waiting: no status read.
     let o = hostctl("write 0 REGMASTER_RESET 1", &[[0x00]]);
     o.result.unwrap();
     assert_eq!(o.port.frames_hex(), ["05 02 01 00 01"]);
@@ -100,24 +160,25 @@ fn write_lift_and_master_reset_send_the_reference_frames() {
 
 #[test]
 fn write_takes_negative_values_and_register_numbers() {
-    let o = hostctl("write 1 26 -40", &[[0x00]]);
+    let o = hostctl("write 1 26 -40", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 12 01 1a 65 66"]);
-    let o = hostctl("write 4 RESET 1", &[[0x00]]);
+    assert_eq!(o.port.frames_hex()[0], "06 12 01 1a 65 66");
+    let o = hostctl("write 4 RESET 1", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["05 42 01 00 01"]);
+    assert_eq!(o.port.frames_hex()[0], "05 42 01 00 01");
 }
 
 #[test]
 fn write_json_reports_value_raw_and_applied() {
-    let o = hostctl("--json write 1 STEER_REQPOS 40", &[[0x00]]);
+    let o = hostctl("--json write 1 STEER_REQPOS 40", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 12 01 1a 98 99"]);
+    assert_eq!(o.port.frames_hex()[0], "06 12 01 1a 98 99");
     assert_eq!(
         o.out,
         "{\"command\":\"write\",\"device\":1,\"board\":\"DS\",\"id\":26,\
          \"register\":\"REGDS_STEER_REQPOS\",\"value\":40,\"raw\":39320,\
-         \"applied\":39.99756,\"unit\":\"deg\"}\n"
+         \"applied\":39.99756,\"unit\":\"deg\",\"in_exception\":false,\
+         \"boot_calibration\":true}\n"
     );
 }
 
@@ -276,17 +337,24 @@ fn watch_configures_then_polls_with_a_table() {
         o.port.frames_hex(),
         ["06 14 00 01 10 21", "03 13 00", "03 13 00"]
     );
+    // The steer angle is on the board's boot calibration: marked, with the legend.
+    let legend = "* not degrees: opening the port rebooted the rover, so the boards are on \
+                  their boot calibration (pot 0..1023 as -512..512)";
     assert_eq!(
         o.out,
-        "read set 0, round 1\n\
-         dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
-         \x20       ms            ticks/s              deg\n\
-         1     1234            999.908           39.998\n\
-         \n\
-         read set 0, round 2\n\
-         dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
-         \x20       ms            ticks/s              deg\n\
-         1     1334              0.000          -40.004\n"
+        format!(
+            "read set 0, round 1\n\
+             dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
+             \x20       ms            ticks/s             deg*\n\
+             1     1234            999.908           39.998\n\
+             {legend}\n\
+             \n\
+             read set 0, round 2\n\
+             dev  TIMER  DRIVE_ACTUALSPEED  STEER_ACTUALPOS\n\
+             \x20       ms            ticks/s             deg*\n\
+             1     1334              0.000          -40.004\n\
+             {legend}\n"
+        )
     );
 }
 
@@ -336,7 +404,8 @@ fn watch_standard_set_0_polls_every_ds_board() {
         ]
     );
     let lines: Vec<&str> = o.out.lines().collect();
-    assert_eq!(lines.len(), 3 + 6);
+    // Title, two header lines, six boards and the boot-calibration legend.
+    assert_eq!(lines.len(), 3 + 6 + 1);
     assert_eq!(lines[0], "read set 0, round 1");
     assert_eq!(
         lines[1],
@@ -349,7 +418,7 @@ fn watch_standard_set_0_polls_every_ds_board() {
         lines[2],
         "        ms           us    bits                     adc            ticks/s      \
          ticks/s                                ticks/s           duty                  ms         \
-         counts  ticks/256              deg          deg                                    deg           \
+         counts  ticks/256             deg*         deg*                                   deg*           \
          duty                  ms         counts"
     );
     // All-zero replies: mapped registers read their minimum, unmapped ones 0.

@@ -34,6 +34,15 @@ fn write_over_a_pty_after_the_banner() {
         let mut frame = [0u8; 6];
         master.read_exact(&mut frame).unwrap();
         master.write_all(&[0x00]).unwrap();
+        // Then the controller's status, through the scratch set: in its boot exception.
+        let mut set = [0u8; 4];
+        master.read_exact(&mut set).unwrap();
+        assert_eq!(set, [0x04, 0x34, 0x07, 0x03]);
+        master.write_all(&[0x01]).unwrap();
+        let mut read = [0u8; 3];
+        master.read_exact(&mut read).unwrap();
+        assert_eq!(read, [0x03, 0x33, 0x07]);
+        master.write_all(&[0x01, 0x00]).unwrap();
         // Keep the master end open until the host has read the reply: a
         // hung-up pty fails the host's next read.
         (frame, master)
@@ -65,9 +74,13 @@ fn write_over_a_pty_after_the_banner() {
 
     let (frame, _master) = twin.join().unwrap();
     assert_eq!(frame, [0x06, 0x32, 0x01, 0x09, 0xcb, 0x8c]);
-    assert_eq!(
-        String::from_utf8(out).unwrap(),
-        "device 3 REGLL_ONE_REQPOS = 20 deg (raw 0x8ccb, arrives as 19.996 deg)\n"
+    let out = String::from_utf8(out).unwrap();
+    assert!(
+        out.starts_with(
+            "device 3 REGLL_ONE_REQPOS = 20 deg (raw 0x8ccb, arrives as 19.996 deg)\n\
+             note: controller 3 is in exception"
+        ),
+        "{out}"
     );
 }
 

@@ -216,6 +216,17 @@ pub fn view_lines(
         ],
     };
     let mut exceptions = vec!["exceptions".to_owned(), String::new()];
+    // A position on a pot scale that is not the wheel's is marked, not passed off as degrees.
+    let mut uncalibrated = false;
+    let mut position = |v: Option<f32>, wheel: u8, motor: Motor| {
+        let text = cell(v, 1);
+        if v.is_none() || pc.calibrated(wheel, motor) {
+            text
+        } else {
+            uncalibrated = true;
+            format!("{text}*")
+        }
+    };
     for wheel in WHEELS {
         let ds = device_of(wheel, Motor::Drive);
         let ll = device_of(wheel, Motor::Lift);
@@ -229,9 +240,9 @@ pub fn view_lines(
             format!("{:.0}", pc.demand(wheel, Motor::Drive)),
             cell(s.value(ds, id::REGDS_DRIVE_ACTUALSPEED), 0),
             format!("{:.1}", pc.demand(wheel, Motor::Steer)),
-            cell(s.value(ds, id::REGDS_STEER_ACTUALPOS), 1),
+            position(s.value(ds, id::REGDS_STEER_ACTUALPOS), wheel, Motor::Steer),
             format!("{:.1}", pc.demand(wheel, Motor::Lift)),
-            cell(s.value(ll, lift_reg), 1),
+            position(s.value(ll, lift_reg), wheel, Motor::Lift),
         ]);
         exceptions.push(wheel_exceptions(s, wheel));
     }
@@ -242,6 +253,13 @@ pub fn view_lines(
         .zip(exceptions)
         .map(|(row, exc)| format!("{row}  {exc}").trim_end().to_owned())
         .collect();
+    if uncalibrated {
+        lines.push(
+            "* not degrees: the board's pot calibration is not the wheel's (no `calibrate` since \
+             the port opened, or a `stop`, which sends -100/100)"
+                .to_owned(),
+        );
+    }
     lines.push(master_line(s));
     lines.push(format!(
         "{:.1} s: {updates} updates, {rate:.1} update()/s (required = last demand sent; actual = read from the boards)",
@@ -296,6 +314,7 @@ mod tests {
     #[test]
     fn view_shows_required_against_actual() {
         let mut pc = Pc::new();
+        pc.calibrate().unwrap();
         pc.set_required(1, Motor::Drive, 1000.0).unwrap();
         pc.set_required(1, Motor::Lift, 20.0).unwrap();
         let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
@@ -327,5 +346,25 @@ mod tests {
             "master: exception: stall on controller 2 (motor 0); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
         );
         assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
+    }
+
+    #[test]
+    fn positions_off_the_wheels_calibration_are_marked() {
+        let mut pc = Pc::new();
+        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        assert_eq!(
+            lines[2],
+            "1              0     1000        0.0   40.0*       0.0   20.0*  -"
+        );
+        let legend = "* not degrees: the board's pot calibration is not the wheel's (no \
+                      `calibrate` since the port opened, or a `stop`, which sends -100/100)";
+        assert_eq!(lines[8], legend);
+        pc.calibrate().unwrap();
+        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        assert!(!lines.iter().any(|l| l.contains('*')), "{lines:#?}");
+        // After the operator's stop the calibration is -100/100 again.
+        pc.emergency_stop().unwrap();
+        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        assert_eq!(lines[8], legend);
     }
 }

@@ -1,6 +1,7 @@
 //! The subcommands, one file each, and the two exchanges they share:
 //! configuring a read set and reading one.
 
+pub mod fresh;
 pub mod live;
 pub mod pc;
 pub mod read;

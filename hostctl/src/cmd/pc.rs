@@ -223,6 +223,19 @@ impl Pc {
         &mut self.blocks[usize::from(wheel - 1)][motor.index()]
     }
 
+    /// Whether `motor` of `wheel` reads in degrees: a position motor only once the block
+    /// holds the wheel's calibration, as `calibrate` sends it. Before that the board is on
+    /// its boot calibration (−512..512), and after `stop` on −100/100.
+    pub fn calibrated(&self, wheel: u8, motor: Motor) -> bool {
+        let w = usize::from(wheel - 1);
+        let calib = self.block(wheel, motor).calib;
+        match motor {
+            Motor::Drive => true,
+            Motor::Steer => STEER_CALIBRATION.get(w) == Some(&calib),
+            Motor::Lift => LIFT_CALIBRATION.get(w) == Some(&calib),
+        }
+    }
+
     /// The last demand recorded for `motor` of `wheel`.
     pub fn demand(&self, wheel: u8, motor: Motor) -> f32 {
         self.demands[usize::from(wheel - 1)][motor.index()]

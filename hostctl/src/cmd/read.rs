@@ -7,7 +7,7 @@
 use shared::mapping;
 use shared::regs::Register;
 
-use super::{Frame, SetRead};
+use super::{fresh, Frame, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
@@ -57,10 +57,11 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
     Ok(report(target, plan.reg, raw, json))
 }
 
-/// The value in units and raw.
+/// The value in units and raw; for a position, that it is not degrees (see [`fresh`]).
 fn report(target: Target, reg: &Register, raw: u16, json: bool) -> String {
+    let boot_scale = target.device != 0 && fresh::on_calibrated_scale(reg);
     if json {
-        return json::Object::new()
+        let object = json::Object::new()
             .str("command", "read")
             .int("device", target.device)
             .str("board", target.board())
@@ -68,10 +69,14 @@ fn report(target: Target, reg: &Register, raw: u16, json: bool) -> String {
             .str("register", reg.name)
             .int("raw", raw)
             .num("value", mapping::unmap(raw, reg))
-            .str("unit", reg.unit)
-            .finish();
+            .str("unit", reg.unit);
+        return if boot_scale {
+            object.raw("boot_calibration", "true").finish()
+        } else {
+            object.finish()
+        };
     }
-    format!(
+    let text = format!(
         "device {} {} = {}{} (raw 0x{:0width$x})",
         target.device,
         reg.name,
@@ -79,5 +84,10 @@ fn report(target: Target, reg: &Register, raw: u16, json: bool) -> String {
         resolve::unit_suffix(reg),
         raw,
         width = usize::from(reg.size) * 2,
-    )
+    );
+    if boot_scale {
+        format!("{text}\n{}", fresh::BOOT_CALIBRATION)
+    } else {
+        text
+    }
 }

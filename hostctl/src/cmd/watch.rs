@@ -256,15 +256,22 @@ pub fn run<P: Port>(
 }
 
 /// The round as lines for people: a title, then a table with one row per
-/// device and a column per register (name over unit).
+/// device and a column per register (name over unit). A controller's position is on its
+/// boot calibration (the port's open rebooted it): its unit is marked, with a legend.
 pub fn table_lines(round: &Round) -> Vec<String> {
     let mut table = Table::default();
+    let mut boot_scale = false;
     if let Some(first) = round.rows.first() {
         let mut names = vec!["dev".to_owned()];
         let mut units = vec![String::new()];
         for (reg, _) in &first.values {
             names.push(reg.short_name().to_owned());
-            units.push(reg.unit.to_owned());
+            if first.target.device != 0 && super::fresh::on_calibrated_scale(reg) {
+                boot_scale = true;
+                units.push(format!("{}*", reg.unit));
+            } else {
+                units.push(reg.unit.to_owned());
+            }
         }
         table.headers = vec![names, units];
     }
@@ -275,6 +282,13 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     }
     let mut lines = vec![format!("read set {}, round {}", round.set, round.number)];
     lines.extend(table.lines());
+    if boot_scale {
+        lines.push(
+            "* not degrees: opening the port rebooted the rover, so the boards are on their \
+             boot calibration (pot 0..1023 as -512..512)"
+                .to_owned(),
+        );
+    }
     lines
 }
 

@@ -4,7 +4,7 @@ use shared::mapping;
 use shared::protocol::{self, Write};
 use shared::regs::Register;
 
-use super::Frame;
+use super::{fresh, Frame};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
@@ -74,15 +74,18 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
                 .unwrap_or_else(|| "not a known error code".to_owned()),
         });
     }
-    Ok(report(plan, json))
+    // Whether anything will act on it: a controller fresh from the port's reboot will not.
+    let exception = fresh::in_exception(plan.target, link);
+    Ok(report(plan, json, exception))
 }
 
 /// What was written: the value asked for, the raw value and what the device
-/// makes of it.
-fn report(plan: &Plan, json: bool) -> String {
+/// makes of it, with what stands in its way (see [`fresh`]).
+fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -> String {
     let applied = mapping::unmap(plan.raw, plan.reg);
+    let boot_scale = plan.target.device != 0 && fresh::on_calibrated_scale(plan.reg);
     if json {
-        return json::Object::new()
+        let mut object = json::Object::new()
             .str("command", "write")
             .int("device", plan.target.device)
             .str("board", plan.target.board())
@@ -91,10 +94,16 @@ fn report(plan: &Plan, json: bool) -> String {
             .num("value", plan.value)
             .int("raw", plan.raw)
             .num("applied", applied)
-            .str("unit", plan.reg.unit)
-            .finish();
+            .str("unit", plan.reg.unit);
+        if let Some(Ok(stopped)) = exception {
+            object = object.raw("in_exception", if stopped { "true" } else { "false" });
+        }
+        if boot_scale {
+            object = object.raw("boot_calibration", "true");
+        }
+        return object.finish();
     }
-    format!(
+    let mut text = format!(
         "device {} {} = {}{} (raw 0x{:0width$x}, arrives as {}{})",
         plan.target.device,
         plan.reg.name,
@@ -104,5 +113,16 @@ fn report(plan: &Plan, json: bool) -> String {
         resolve::show(plan.reg, plan.raw),
         resolve::unit_suffix(plan.reg),
         width = usize::from(plan.reg.size) * 2,
-    )
+    );
+    match exception {
+        Some(Ok(true)) => text += &format!("\n{}", fresh::stored_only(plan.target.device)),
+        Some(Err(e)) => {
+            text += &format!("\nnote: the controller's status could not be read afterwards: {e}")
+        }
+        _ => {}
+    }
+    if boot_scale {
+        text += &format!("\n{}", fresh::BOOT_CALIBRATION);
+    }
+    text
 }

@@ -1,0 +1,60 @@
+//! What a one-shot command (`read`, `write`) meets: opening the port reboots the rover (the
+//! Uno's DTR reset, reference §4.1), so every controller it reaches is fresh from boot. It
+//! is in its boot exception, where a write is stored but nothing acts on it (§6.4), and on
+//! its boot calibration, where a position is not in degrees (§8.1: −512..512 internally).
+//! The notes here say so, rather than let a value or a write pass as more than it is.
+
+use shared::regs::{id, Register};
+
+use super::read::SCRATCH_SET;
+use super::{configure, set_frame, SetRead};
+use crate::error::HostError;
+use crate::link::Link;
+use crate::port::Port;
+use crate::resolve::Target;
+
+/// Whether `reg`'s value is an angle through the controller's pot calibration (a position,
+/// its error and derivative, the dead zone): degrees only once the board is calibrated.
+/// The calibration registers themselves are degrees whatever the board holds.
+pub fn on_calibrated_scale(reg: &Register) -> bool {
+    reg.unit == "deg" && !reg.name.ends_with("CALIBMIN") && !reg.name.ends_with("CALIBMAX")
+}
+
+/// The note for such a register, read or written right after the port opened.
+pub const BOOT_CALIBRATION: &str = "note: not degrees: opening the port rebooted the rover, so \
+the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the register's \
+range). Positions are degrees after `calibrate`, in one `hostctl run FILE` script.";
+
+/// Whether the controller `target` is in exception (REG_STATUS bit 0), read through the
+/// scratch read set. `None` for the master, which a write does not leave waiting.
+pub fn in_exception<P: Port>(
+    target: Target,
+    link: &mut Link<P>,
+) -> Option<Result<bool, HostError>> {
+    if target.device == 0 {
+        return None;
+    }
+    let status = target.kind.register(id::REG_STATUS)?;
+    Some(status_bit(target, status, link))
+}
+
+fn status_bit<P: Port>(
+    target: Target,
+    status: &'static Register,
+    link: &mut Link<P>,
+) -> Result<bool, HostError> {
+    let frame = set_frame(target, SCRATCH_SET, &[status])?;
+    configure(link, target, SCRATCH_SET, &frame, 1)?;
+    let raws = SetRead::new(target, SCRATCH_SET, vec![status])?.run(link)?;
+    Ok(raws.first().is_some_and(|s| s & 1 != 0))
+}
+
+/// The note for a write that found its controller in exception.
+pub fn stored_only(device: u8) -> String {
+    format!(
+        "note: controller {device} is in exception (every controller is after the port opens, \
+         which reboots the rover): the value is stored, but nothing acts on it until the \
+         exception is reset, and the next hostctl command reboots the rover again. To see it \
+         act, put `reset` and this write in one script: `hostctl run FILE`."
+    )
+}
