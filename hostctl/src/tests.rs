@@ -445,6 +445,30 @@ fn watch_stops_at_the_first_failed_read() {
     assert!(o.out.is_empty());
 }
 
+// ---- run ----
+
+#[test]
+fn run_with_json_prints_json_lines() {
+    let path = std::env::temp_dir().join(format!("hostctl-json-{}.rover", std::process::id()));
+    std::fs::write(&path, "say Wheel one ready\n").unwrap();
+    // init(): read sets 0, 1, 2 via controllers 1..9, then the master.
+    let replies: Vec<Vec<u8>> = (1..=9u8)
+        .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
+        .chain([vec![11]])
+        .collect();
+    let o = hostctl(&format!("--json run {}", path.display()), &replies);
+    std::fs::remove_file(&path).unwrap();
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        format!(
+            "{{\"command\":\"run\",\"script\":\"{}\",\"lines\":1}}\n\
+             {{\"command\":\"run\",\"line\":1,\"say\":\"Wheel one ready\"}}\n",
+            path.display()
+        )
+    );
+}
+
 // ---- bad input: refused before the port is opened ----
 
 #[test]
