@@ -57,7 +57,9 @@ pub enum Command {
     /// Run a script of rover commands over one connection (opening the port resets the
     /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
     /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait|watch SECONDS (with a
-    /// live view of required against actual per wheel), say TEXT. The whole script is
-    /// checked before anything is sent.
+    /// live view of required against actual per wheel), say TEXT. A comment starts at a
+    /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
+    /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
+    /// sent.
     Run(cmd::run::Args),
 }
