@@ -29,7 +29,7 @@ pub enum HostError {
     },
 
     /// The register exists, but on another kind of board.
-    #[error("register `{name}` is on the {other} table, not on device {device} ({board}); address one of devices {devices} instead (readset and watch: --device)")]
+    #[error("register `{name}` is on the {other}, not on device {device} ({board}); address one of devices {devices} instead (readset and watch: --device)")]
     WrongBoard {
         /// The name given.
         name: String,
@@ -37,9 +37,9 @@ pub enum HostError {
         device: u8,
         /// The device's table name.
         board: &'static str,
-        /// The table that has the register.
-        other: &'static str,
-        /// The devices that use that table.
+        /// The tables that have the register, e.g. `DS table` or `DS and LL tables`.
+        other: String,
+        /// The devices that use those tables.
         devices: String,
     },
 

@@ -100,13 +100,24 @@ pub fn register(target: Target, text: &str) -> Result<&'static Register, HostErr
         .into_iter()
         .filter(|&k| k != target.kind && k.lookup(text).is_some())
         .collect();
-    if let Some(&other) = others.first() {
+    if !others.is_empty() {
+        // The common block (REG_TIMER …) is on both controller tables: name them both.
+        let names: Vec<&str> = others.iter().map(|k| k.name()).collect();
+        let other = match names.as_slice() {
+            [one] => format!("{one} table"),
+            _ => format!("{} tables", names.join(" and ")),
+        };
+        let devices = (0..=MAX_DEVICE)
+            .filter(|&d| BoardKind::of_device(d).is_some_and(|k| others.contains(&k)))
+            .map(|d| d.to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
         return Err(HostError::WrongBoard {
             name: text.to_owned(),
             device: target.device,
             board: target.board(),
-            other: other.name(),
-            devices: devices_of(other),
+            other,
+            devices,
         });
     }
     let close = suggest::close_names(text, table.iter().map(|r| r.name));
@@ -332,10 +343,12 @@ mod tests {
             "register `REGLL_ONE_REQPOS` is on the LL table, not on device 1 (DS); \
              address one of devices 3, 6, 9 instead (readset and watch: --device)"
         );
+        // A register of the common block is on every controller, DS and LL alike.
         let err = register(device("0").unwrap(), "TIMER").unwrap_err();
-        assert!(
-            matches!(err, HostError::WrongBoard { other: "DS", .. }),
-            "{err}"
+        assert_eq!(
+            err.to_string(),
+            "register `TIMER` is on the DS and LL tables, not on device 0 (MASTER); \
+             address one of devices 1, 2, 3, 4, 5, 6, 7, 8, 9 instead (readset and watch: --device)"
         );
     }
 

@@ -522,7 +522,11 @@ fn unknown_and_misplaced_registers_are_refused() {
     assert!(refused("write 1 REGLL_ONE_REQPOS 20").contains("address one of devices 3, 6, 9"));
     assert!(refused("read 0 45").contains("no register 45"));
     assert!(refused("read 3 47").contains("no register 47"));
-    assert!(refused("readset 0 TIMER").contains("on the DS table, not on device 0"));
+    assert_eq!(
+        refused("readset 3 timer"),
+        "register `timer` is on the DS and LL tables, not on device 0 (MASTER); \
+         address one of devices 1, 2, 3, 4, 5, 6, 7, 8, 9 instead (readset and watch: --device)"
+    );
     assert!(refused("watch --readset 2 --device 3 DRIVE_ACTUALSPEED").contains("not on device 3"));
     assert!(refused("watch --readset 0 REGLL_ONE_ACTUALPOS").contains("not on device 1"));
 }
