@@ -4,6 +4,10 @@ use clap::{Parser, Subcommand};
 
 use crate::cmd;
 
+/// The longest `--settle-ms`: a minute, far beyond the slaves' reboot, so a typo cannot
+/// hang hostctl.
+pub const MAX_SETTLE_MS: u64 = 60_000;
+
 /// Talk to the Blodwen rover (or its twin) over the master's serial link.
 ///
 /// Devices: 0 is the master, 1..9 the controllers (DS drive/steer boards
@@ -24,8 +28,14 @@ pub struct Cli {
     pub json: bool,
 
     /// Milliseconds to wait after the master's `Ready` before the first frame,
-    /// while the slaves it has just reset reboot.
-    #[arg(long, global = true, value_name = "MS", default_value_t = 2000)]
+    /// while the slaves it has just reset reboot (at most 60000).
+    #[arg(
+        long,
+        global = true,
+        value_name = "MS",
+        default_value_t = 2000,
+        value_parser = clap::value_parser!(u64).range(..=MAX_SETTLE_MS)
+    )]
     pub settle_ms: u64,
 
     /// What to do.

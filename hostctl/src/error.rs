@@ -82,6 +82,29 @@ pub enum HostError {
         unit: String,
     },
 
+    /// A fraction for a register that holds whole numbers (an unmapped one).
+    #[error("{value} is not a whole number, but {register} on device {device} holds whole numbers {min}..{max}{unit}; give one, e.g. {example}")]
+    NotWhole {
+        /// The value given.
+        value: f32,
+        /// The register's name.
+        register: &'static str,
+        /// The device addressed.
+        device: u8,
+        /// Lowest allowed value.
+        min: f32,
+        /// Highest allowed value.
+        max: f32,
+        /// The unit, with a leading space, or empty.
+        unit: String,
+        /// The value without its fraction.
+        example: f32,
+    },
+
+    /// `watch --count 0`, which would poll nothing.
+    #[error("`watch --count 0` would poll nothing; give --count 1 or more, or leave --count out to poll until interrupted")]
+    ZeroCount,
+
     /// The register cannot be written.
     #[error("{register} on device {device} is read-only; use `hostctl read {device} {register}` to see it")]
     ReadOnly {

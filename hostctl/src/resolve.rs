@@ -189,6 +189,19 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
             unit: unit_suffix(reg),
         });
     }
+    // An unmapped register is an integer (a bit field, a count): map() would drop the
+    // fraction silently.
+    if reg.range.is_none() && value.fract() != 0.0 {
+        return Err(HostError::NotWhole {
+            value,
+            register: reg.name,
+            device: target.device,
+            min,
+            max,
+            unit: unit_suffix(reg),
+            example: value.trunc(),
+        });
+    }
     Ok((value, mapping::map(value, reg)))
 }
 
@@ -415,6 +428,19 @@ mod tests {
         ));
         let status = register(ds(), "STATUS").unwrap();
         assert_eq!(allowed(status), (0.0, 65535.0));
+        assert_eq!(
+            value(ds(), reset, "1.5").unwrap_err().to_string(),
+            "1.5 is not a whole number, but REG_RESET on device 1 holds whole numbers \
+             0..255 bits; give one, e.g. 1"
+        );
+        let faulttime = register(ds(), "FAULTTIME").unwrap();
+        assert!(matches!(
+            value(ds(), faulttime, "500.25"),
+            Err(HostError::NotWhole { .. })
+        ));
+        assert_eq!(value(ds(), faulttime, "500.0").unwrap(), (500.0, 500));
+        // Mapped registers take fractions.
+        assert_eq!(value(ds(), speed, "0.5").unwrap().0, 0.5);
         assert!(matches!(
             value(ds(), speed, "fast"),
             Err(HostError::BadValue { ref given }) if given == "fast"

@@ -546,6 +546,41 @@ fn out_of_range_values_are_refused() {
 }
 
 #[test]
+fn fractions_for_whole_number_registers_are_refused() {
+    assert_eq!(
+        refused("write 1 reset 1.5"),
+        "1.5 is not a whole number, but REG_RESET on device 1 holds whole numbers 0..255 bits; \
+         give one, e.g. 1"
+    );
+    assert!(refused("write 1 drive_mode 0.5").starts_with("0.5 is not a whole number"));
+}
+
+#[test]
+fn watch_count_0_is_refused_before_the_port_opens() {
+    assert_eq!(
+        refused("watch --readset 2 --count 0"),
+        "`watch --count 0` would poll nothing; give --count 1 or more, \
+         or leave --count out to poll until interrupted"
+    );
+}
+
+#[test]
+fn settle_ms_is_bounded_to_a_minute() {
+    let parse = |ms: &str| Cli::try_parse_from(["hostctl", "--settle-ms", ms, "read", "0", "1"]);
+    assert_eq!(parse("60000").unwrap().settle_ms, 60_000);
+    assert_eq!(parse("0").unwrap().settle_ms, 0);
+    let err = parse("18446744073709551615").unwrap_err();
+    assert_eq!(err.exit_code(), 2);
+    assert!(
+        err.to_string().starts_with(
+            "error: invalid value '18446744073709551615' for '--settle-ms <MS>': \
+             18446744073709551615 is not in 0..=60000"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
 fn read_only_registers_are_refused() {
     assert_eq!(
         refused("write 1 DRIVE_ACTUALSPEED 0"),
