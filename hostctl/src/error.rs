@@ -131,7 +131,7 @@ pub enum HostError {
     },
 
     /// `watch` of a set that has no standard contents, without registers.
-    #[error("read set {set} has no standard contents (only sets 0, 1 and 2 do); name the registers to watch after the options")]
+    #[error("read set {set} has no standard contents (only sets 0, 1 and 2 do), and a set configured by an earlier `hostctl readset` is gone (opening the port resets the master, which empties every read set); name the registers to watch after the options, e.g. `hostctl watch --readset {set} TEMPAMBIENT`")]
     NoStandardSet {
         /// The set asked for.
         set: u8,

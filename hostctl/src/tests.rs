@@ -565,6 +565,25 @@ fn watch_count_0_is_refused_before_the_port_opens() {
 }
 
 #[test]
+fn readset_help_says_the_set_ends_with_the_session() {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    let help = cli
+        .find_subcommand_mut("readset")
+        .unwrap()
+        .render_long_help()
+        .to_string();
+    assert!(
+        help.contains(
+            "The set lasts only until the next hostctl command: every command opens the port, \
+             which resets the master and empties every read set (reference §4.1), so a later \
+             `hostctl watch --readset N` cannot use it."
+        ),
+        "{help}"
+    );
+}
+
+#[test]
 fn settle_ms_is_bounded_to_a_minute() {
     let parse = |ms: &str| Cli::try_parse_from(["hostctl", "--settle-ms", ms, "read", "0", "1"]);
     assert_eq!(parse("60000").unwrap().settle_ms, 60_000);
@@ -609,8 +628,10 @@ fn bad_sets_and_oversized_sets_are_refused() {
 fn watch_without_registers_needs_a_standard_set() {
     assert_eq!(
         refused("watch --readset 5"),
-        "read set 5 has no standard contents (only sets 0, 1 and 2 do); \
-         name the registers to watch after the options"
+        "read set 5 has no standard contents (only sets 0, 1 and 2 do), and a set configured \
+         by an earlier `hostctl readset` is gone (opening the port resets the master, which \
+         empties every read set); name the registers to watch after the options, \
+         e.g. `hostctl watch --readset 5 TEMPAMBIENT`"
     );
     assert_eq!(
         refused("watch --readset 1 --device 2"),
