@@ -49,7 +49,8 @@ struct RunArgs {
     /// Run as fast as the host allows instead of pacing to real time.
     #[arg(long)]
     unpaced: bool,
-    /// Print "speed N.NNx real time" on stderr every SECS seconds (0: never).
+    /// Print the speed on stderr every SECS seconds (0: never): paced, the compute headroom
+    /// over real time; unpaced, the speed it runs at.
     #[arg(long, value_name = "SECS", default_value_t = 0.0)]
     stats: f64,
     /// Exit after SECS seconds during which no program had the port open (0: never).
@@ -208,7 +209,8 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         if rover.threads() == 1 { "" } else { "s" }
     );
 
-    let mut server = Server::new(rover, pty, Some(socket), !args.unpaced);
+    let paced = !args.unpaced;
+    let mut server = Server::new(rover, pty, Some(socket), paced);
     let limits = Limits {
         emulated: args.seconds.and_then(seconds),
         idle: seconds(args.idle_exit),
@@ -221,7 +223,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         &mut |rover, emulated, wall| {
             if stats.is_some_and(|every| last.elapsed() >= every) {
                 last = std::time::Instant::now();
-                report_speed(rover, emulated, wall);
+                report_speed(rover, emulated, wall, paced);
             }
         },
     )?;
@@ -232,32 +234,16 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         );
     }
     if stats.is_some() {
-        eprintln!("twin: final: {}", speed_line(server.rover()));
+        eprintln!("twin: final: {}", server.rover().speed().describe(paced));
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// The speed: emulated time per second of the emulator's own work, and a warning when it
-/// cannot keep up with real time.
-fn speed_line(rover: &Rover) -> String {
-    let speed = rover.speed();
-    let ratio = speed.ratio();
-    let lag = if ratio < 1.0 {
-        "; slower than real time, so host timeouts come early"
-    } else {
-        ""
-    };
-    format!(
-        "speed {ratio:.2}x real time ({:.2}x per second of CPU){lag}",
-        speed.cpu_ratio()
-    )
-}
-
-fn report_speed(rover: &Rover, emulated: Duration, wall: Duration) {
+fn report_speed(rover: &Rover, emulated: Duration, wall: Duration, paced: bool) {
     eprintln!(
         "twin: {:.1} s emulated in {:.1} s, {}",
         emulated.as_secs_f64(),
         wall.as_secs_f64(),
-        speed_line(rover)
+        rover.speed().describe(paced)
     );
 }
