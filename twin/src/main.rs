@@ -121,16 +121,26 @@ fn inject(
     control: Option<PathBuf>,
     line: &str,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // A refused command, here or by the twin, is told the same way: `twin: ` on stderr and
+    // exit 2 (a failure to reach the twin is exit 1, from main).
+    let refused = |why: &str| {
+        eprintln!("twin: {why}");
+        ExitCode::from(2)
+    };
     // Check the command here too, so a typo is reported without a running twin.
-    Command::parse(line)?;
+    if let Err(e) = Command::parse(line) {
+        return Ok(refused(&e.to_string()));
+    }
     let socket =
         control.unwrap_or_else(|| paths::control_of(&link.unwrap_or_else(paths::default_link)));
     let reply = control::send(&socket, line)?;
-    println!("{reply}");
-    Ok(if reply.starts_with("error: ") {
-        ExitCode::from(2)
-    } else {
-        ExitCode::SUCCESS
+    // The control socket marks a refusal with `error: `.
+    Ok(match reply.strip_prefix("error: ") {
+        Some(why) => refused(why),
+        None => {
+            println!("{reply}");
+            ExitCode::SUCCESS
+        }
     })
 }
 
