@@ -4,6 +4,10 @@ use clap::{Parser, Subcommand};
 
 use crate::cmd;
 
+/// The longest `--settle-ms`: a minute, far beyond the slaves' reboot, so a typo cannot
+/// hang hostctl.
+pub const MAX_SETTLE_MS: u64 = 60_000;
+
 /// Talk to the Blodwen rover (or its twin) over the master's serial link.
 ///
 /// Devices: 0 is the master, 1..9 the controllers (DS drive/steer boards
@@ -24,8 +28,14 @@ pub struct Cli {
     pub json: bool,
 
     /// Milliseconds to wait after the master's `Ready` before the first frame,
-    /// while the slaves it has just reset reboot.
-    #[arg(long, global = true, value_name = "MS", default_value_t = 2000)]
+    /// while the slaves it has just reset reboot (at most 60000).
+    #[arg(
+        long,
+        global = true,
+        value_name = "MS",
+        default_value_t = 2000,
+        value_parser = clap::value_parser!(u64).range(..=MAX_SETTLE_MS)
+    )]
     pub settle_ms: u64,
 
     /// What to do.
@@ -47,6 +57,11 @@ pub enum Command {
 
     /// Configure a read set (0..7) with up to 24 registers; the master must
     /// answer with the count.
+    ///
+    /// The set lasts only until the next hostctl command: every command opens the port,
+    /// which resets the master and empties every read set (reference §4.1), so a later
+    /// `hostctl watch --readset N` cannot use it. Give `watch` the registers itself
+    /// (`hostctl watch --readset N REG...`), or use `run` for a sequence in one session.
     Readset(cmd::readset::Args),
 
     /// Poll a read set and show a table that refreshes in place (JSON lines
@@ -57,7 +72,9 @@ pub enum Command {
     /// Run a script of rover commands over one connection (opening the port resets the
     /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
     /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait|watch SECONDS (with a
-    /// live view of required against actual per wheel), say TEXT. The whole script is
-    /// checked before anything is sent.
+    /// live view of required against actual per wheel), say TEXT. A comment starts at a
+    /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
+    /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
+    /// sent.
     Run(cmd::run::Args),
 }

@@ -29,7 +29,7 @@ pub enum HostError {
     },
 
     /// The register exists, but on another kind of board.
-    #[error("register `{name}` is on the {other} table, not on device {device} ({board}); address one of devices {devices} instead (readset and watch: --device)")]
+    #[error("register `{name}` is on the {other}, not on device {device} ({board}); address one of devices {devices} instead (readset and watch: --device)")]
     WrongBoard {
         /// The name given.
         name: String,
@@ -37,9 +37,9 @@ pub enum HostError {
         device: u8,
         /// The device's table name.
         board: &'static str,
-        /// The table that has the register.
-        other: &'static str,
-        /// The devices that use that table.
+        /// The tables that have the register, e.g. `DS table` or `DS and LL tables`.
+        other: String,
+        /// The devices that use those tables.
         devices: String,
     },
 
@@ -82,6 +82,29 @@ pub enum HostError {
         unit: String,
     },
 
+    /// A fraction for a register that holds whole numbers (an unmapped one).
+    #[error("{value} is not a whole number, but {register} on device {device} holds whole numbers {min}..{max}{unit}; give one, e.g. {example}")]
+    NotWhole {
+        /// The value given.
+        value: f32,
+        /// The register's name.
+        register: &'static str,
+        /// The device addressed.
+        device: u8,
+        /// Lowest allowed value.
+        min: f32,
+        /// Highest allowed value.
+        max: f32,
+        /// The unit, with a leading space, or empty.
+        unit: String,
+        /// The value without its fraction.
+        example: f32,
+    },
+
+    /// `watch --count 0`, which would poll nothing.
+    #[error("`watch --count 0` would poll nothing; give --count 1 or more, or leave --count out to poll until interrupted")]
+    ZeroCount,
+
     /// The register cannot be written.
     #[error("{register} on device {device} is read-only; use `hostctl read {device} {register}` to see it")]
     ReadOnly {
@@ -108,7 +131,7 @@ pub enum HostError {
     },
 
     /// `watch` of a set that has no standard contents, without registers.
-    #[error("read set {set} has no standard contents (only sets 0, 1 and 2 do); name the registers to watch after the options")]
+    #[error("read set {set} has no standard contents (only sets 0, 1 and 2 do), and a set configured by an earlier `hostctl readset` is gone (opening the port resets the master, which empties every read set); name the registers to watch after the options, e.g. `hostctl watch --readset {set} TEMPAMBIENT`")]
     NoStandardSet {
         /// The set asked for.
         set: u8,

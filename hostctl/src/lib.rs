@@ -102,6 +102,7 @@ pub fn execute_with_clock<P: Port>(
             let mut output = cmd::run::Output {
                 out,
                 in_place: style.in_place && !style.json,
+                json: style.json,
             };
             return cmd::run::run(p, link, clock, &mut output);
         }

@@ -3,7 +3,9 @@
 
 use shared::mapping;
 use shared::protocol::{MAX_DEVICE, READ_SETS, READ_SET_SIZE};
-use shared::regs::{BoardKind, Register};
+use shared::regs::{id, BoardKind, Register};
+use shared::slave::board::{Layout, Param};
+use shared::slave::{DriveMode, MotorId, Variant};
 
 use crate::error::HostError;
 use crate::suggest;
@@ -98,13 +100,24 @@ pub fn register(target: Target, text: &str) -> Result<&'static Register, HostErr
         .into_iter()
         .filter(|&k| k != target.kind && k.lookup(text).is_some())
         .collect();
-    if let Some(&other) = others.first() {
+    if !others.is_empty() {
+        // The common block (REG_TIMER …) is on both controller tables: name them both.
+        let names: Vec<&str> = others.iter().map(|k| k.name()).collect();
+        let other = match names.as_slice() {
+            [one] => format!("{one} table"),
+            _ => format!("{} tables", names.join(" and ")),
+        };
+        let devices = (0..=MAX_DEVICE)
+            .filter(|&d| BoardKind::of_device(d).is_some_and(|k| others.contains(&k)))
+            .map(|d| d.to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
         return Err(HostError::WrongBoard {
             name: text.to_owned(),
             device: target.device,
             board: target.board(),
-            other: other.name(),
-            devices: devices_of(other),
+            other,
+            devices,
         });
     }
     let close = suggest::close_names(text, table.iter().map(|r| r.name));
@@ -176,12 +189,74 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
             unit: unit_suffix(reg),
         });
     }
+    // An unmapped register is an integer (a bit field, a count): map() would drop the
+    // fraction silently.
+    if reg.range.is_none() && value.fract() != 0.0 {
+        return Err(HostError::NotWhole {
+            value,
+            register: reg.name,
+            device: target.device,
+            min,
+            max,
+            unit: unit_suffix(reg),
+            example: value.trunc(),
+        });
+    }
     Ok((value, mapping::map(value, reg)))
 }
 
-/// A value for people: unmapped registers as integers, mapped ones with
-/// three decimals.
+/// What a slave makes of a register's value, where that is not the unmapped value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SlaveUse {
+    /// The unmapped value itself.
+    Value,
+    /// Truncated toward zero to an integer (OVERCURRENTTHRESH, STALLCHECK; reference §3).
+    Integer,
+    /// REGDS_DRIVE_MODE: 1 selects mode 1, any other value mode 0.
+    DriveMode,
+}
+
+/// How the slave uses `reg`, from the slaves' own parameter layout.
+fn slave_use(reg: &Register) -> SlaveUse {
+    for kind in [BoardKind::DriveSteer, BoardKind::LiftLift] {
+        // Names are unique across the tables, so this finds the table `reg` is from.
+        if kind.register(reg.id).is_none_or(|r| r.name != reg.name) {
+            continue;
+        }
+        if kind == BoardKind::DriveSteer && reg.id == id::REGDS_DRIVE_MODE {
+            return SlaveUse::DriveMode;
+        }
+        let Some(variant) = Variant::of_board(kind) else {
+            continue;
+        };
+        for motor in [MotorId::M1, MotorId::M2] {
+            if let Some(Param::Threshold | Param::StallCheck) =
+                Layout::of(variant, motor).param(reg.id)
+            {
+                return SlaveUse::Integer;
+            }
+        }
+    }
+    SlaveUse::Value
+}
+
+/// A value for people, as the board uses it: unmapped registers as integers, mapped ones
+/// with three decimals, integer parameters truncated as the slave truncates them, and
+/// DRIVE_MODE as the mode applied.
 pub fn show(reg: &Register, raw: u16) -> String {
+    match slave_use(reg) {
+        // The float32 result truncated equals the slave's fixed-point integer for every
+        // raw value (shared::slave::scale, tested exhaustively there).
+        SlaveUse::Integer => return format!("{:.0}", mapping::unmap(raw, reg).trunc()),
+        SlaveUse::DriveMode => {
+            return match DriveMode::from_register(raw) {
+                DriveMode::Window => "0",
+                DriveMode::EdgeTiming => "1",
+            }
+            .to_owned()
+        }
+        SlaveUse::Value => {}
+    }
     if reg.range.is_none() {
         return raw.to_string();
     }
@@ -281,10 +356,12 @@ mod tests {
             "register `REGLL_ONE_REQPOS` is on the LL table, not on device 1 (DS); \
              address one of devices 3, 6, 9 instead (readset and watch: --device)"
         );
+        // A register of the common block is on every controller, DS and LL alike.
         let err = register(device("0").unwrap(), "TIMER").unwrap_err();
-        assert!(
-            matches!(err, HostError::WrongBoard { other: "DS", .. }),
-            "{err}"
+        assert_eq!(
+            err.to_string(),
+            "register `TIMER` is on the DS and LL tables, not on device 0 (MASTER); \
+             address one of devices 1, 2, 3, 4, 5, 6, 7, 8, 9 instead (readset and watch: --device)"
         );
     }
 
@@ -351,6 +428,19 @@ mod tests {
         ));
         let status = register(ds(), "STATUS").unwrap();
         assert_eq!(allowed(status), (0.0, 65535.0));
+        assert_eq!(
+            value(ds(), reset, "1.5").unwrap_err().to_string(),
+            "1.5 is not a whole number, but REG_RESET on device 1 holds whole numbers \
+             0..255 bits; give one, e.g. 1"
+        );
+        let faulttime = register(ds(), "FAULTTIME").unwrap();
+        assert!(matches!(
+            value(ds(), faulttime, "500.25"),
+            Err(HostError::NotWhole { .. })
+        ));
+        assert_eq!(value(ds(), faulttime, "500.0").unwrap(), (500.0, 500));
+        // Mapped registers take fractions.
+        assert_eq!(value(ds(), speed, "0.5").unwrap().0, 0.5);
         assert!(matches!(
             value(ds(), speed, "fast"),
             Err(HostError::BadValue { ref given }) if given == "fast"
@@ -380,6 +470,29 @@ mod tests {
         let timer = register(ds(), "TIMER").unwrap();
         assert_eq!(show(timer, 65535), "65535");
         assert_eq!(unit_suffix(speed), " ticks/s");
+    }
+
+    #[test]
+    fn shown_values_are_what_the_slave_uses() {
+        // Thresholds and stall checks are truncated to integers (reference §3: 10 → 9).
+        let thresh = register(ds(), "DRIVE_OVERCURRENTTHRESH").unwrap();
+        assert_eq!(show(thresh, 0x028f), "9");
+        assert_eq!(show(thresh, 0x3332), "199");
+        assert_eq!(show(thresh, 0xfffe), "1000");
+        let stall = register(ds(), "STEER_STALLCHECK").unwrap();
+        assert_eq!(show(stall, 0x63), "99");
+        let lift = register(ll(), "TWO_OVERCURRENTTHRESH").unwrap();
+        assert_eq!(show(lift, 0x028f), "9");
+        assert_eq!(show(register(ll(), "ONE_STALLCHECK").unwrap(), 0xfe), "255");
+        // DRIVE_MODE: 1 is mode 1; anything else is mode 0.
+        let mode = register(ds(), "DRIVE_MODE").unwrap();
+        assert_eq!(show(mode, 1), "1");
+        assert_eq!(show(mode, 0), "0");
+        assert_eq!(show(mode, 5), "0");
+        // Other registers keep their mapped value.
+        let cap = register(ds(), "DRIVE_INTEGRALCAP").unwrap();
+        assert_eq!(show(cap, 0x4ccc), "299.997");
+        assert_eq!(show(register(ds(), "FAULTTIME").unwrap(), 500), "500");
         assert_eq!(unit_suffix(register(ds(), "DRIVE_PGAIN").unwrap()), "");
     }
 }

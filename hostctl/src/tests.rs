@@ -159,6 +159,35 @@ fn write_lift_and_master_reset_send_the_reference_frames() {
 }
 
 #[test]
+fn write_says_what_the_board_uses_for_truncated_registers() {
+    let o = hostctl("write 1 drive_overcurrentthresh 10", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 12 01 0f 8f 02"]);
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_OVERCURRENTTHRESH = 10 adc (raw 0x028f, arrives as 9 adc)\n"
+    );
+    let o = hostctl("write 1 drive_stallcheck 100", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_STALLCHECK = 100 duty (raw 0x63, arrives as 99 duty)\n"
+    );
+    let o = hostctl("write 1 drive_mode 5", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_MODE = 5 mode (raw 0x05, arrives as 0 mode)\n"
+    );
+    let o = hostctl("write 1 drive_mode 1", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_MODE = 1 mode (raw 0x01, arrives as 1 mode)\n"
+    );
+}
+
+#[test]
 fn write_takes_negative_values_and_register_numbers() {
     let o = hostctl("write 1 26 -40", &WRITTEN_RUNNING);
     o.result.unwrap();
@@ -514,6 +543,30 @@ fn watch_stops_at_the_first_failed_read() {
     assert!(o.out.is_empty());
 }
 
+// ---- run ----
+
+#[test]
+fn run_with_json_prints_json_lines() {
+    let path = std::env::temp_dir().join(format!("hostctl-json-{}.rover", std::process::id()));
+    std::fs::write(&path, "say Wheel one ready\n").unwrap();
+    // init(): read sets 0, 1, 2 via controllers 1..9, then the master.
+    let replies: Vec<Vec<u8>> = (1..=9u8)
+        .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
+        .chain([vec![11]])
+        .collect();
+    let o = hostctl(&format!("--json run {}", path.display()), &replies);
+    std::fs::remove_file(&path).unwrap();
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        format!(
+            "{{\"command\":\"run\",\"script\":\"{}\",\"lines\":1}}\n\
+             {{\"command\":\"run\",\"line\":1,\"say\":\"Wheel one ready\"}}\n",
+            path.display()
+        )
+    );
+}
+
 // ---- bad input: refused before the port is opened ----
 
 #[test]
@@ -538,7 +591,11 @@ fn unknown_and_misplaced_registers_are_refused() {
     assert!(refused("write 1 REGLL_ONE_REQPOS 20").contains("address one of devices 3, 6, 9"));
     assert!(refused("read 0 45").contains("no register 45"));
     assert!(refused("read 3 47").contains("no register 47"));
-    assert!(refused("readset 0 TIMER").contains("on the DS table, not on device 0"));
+    assert_eq!(
+        refused("readset 3 timer"),
+        "register `timer` is on the DS and LL tables, not on device 0 (MASTER); \
+         address one of devices 1, 2, 3, 4, 5, 6, 7, 8, 9 instead (readset and watch: --device)"
+    );
     assert!(refused("watch --readset 2 --device 3 DRIVE_ACTUALSPEED").contains("not on device 3"));
     assert!(refused("watch --readset 0 REGLL_ONE_ACTUALPOS").contains("not on device 1"));
 }
@@ -555,6 +612,60 @@ fn out_of_range_values_are_refused() {
     );
     assert!(refused("write 1 DRIVE_REQSPEED fast").starts_with("`fast` is not a number"));
     assert!(refused("write 0 RESET 256").contains("allowed 0..255"));
+}
+
+#[test]
+fn fractions_for_whole_number_registers_are_refused() {
+    assert_eq!(
+        refused("write 1 reset 1.5"),
+        "1.5 is not a whole number, but REG_RESET on device 1 holds whole numbers 0..255 bits; \
+         give one, e.g. 1"
+    );
+    assert!(refused("write 1 drive_mode 0.5").starts_with("0.5 is not a whole number"));
+}
+
+#[test]
+fn watch_count_0_is_refused_before_the_port_opens() {
+    assert_eq!(
+        refused("watch --readset 2 --count 0"),
+        "`watch --count 0` would poll nothing; give --count 1 or more, \
+         or leave --count out to poll until interrupted"
+    );
+}
+
+#[test]
+fn readset_help_says_the_set_ends_with_the_session() {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    let help = cli
+        .find_subcommand_mut("readset")
+        .unwrap()
+        .render_long_help()
+        .to_string();
+    assert!(
+        help.contains(
+            "The set lasts only until the next hostctl command: every command opens the port, \
+             which resets the master and empties every read set (reference §4.1), so a later \
+             `hostctl watch --readset N` cannot use it."
+        ),
+        "{help}"
+    );
+}
+
+#[test]
+fn settle_ms_is_bounded_to_a_minute() {
+    let parse = |ms: &str| Cli::try_parse_from(["hostctl", "--settle-ms", ms, "read", "0", "1"]);
+    assert_eq!(parse("60000").unwrap().settle_ms, 60_000);
+    assert_eq!(parse("0").unwrap().settle_ms, 0);
+    let err = parse("18446744073709551615").unwrap_err();
+    assert_eq!(err.exit_code(), 2);
+    assert!(
+        err.to_string().starts_with(
+            "error: invalid value '18446744073709551615' for '--settle-ms <MS>': \
+             18446744073709551615 is not in 0..=60000"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
@@ -586,8 +697,10 @@ fn bad_sets_and_oversized_sets_are_refused() {
 fn watch_without_registers_needs_a_standard_set() {
     assert_eq!(
         refused("watch --readset 5"),
-        "read set 5 has no standard contents (only sets 0, 1 and 2 do); \
-         name the registers to watch after the options"
+        "read set 5 has no standard contents (only sets 0, 1 and 2 do), and a set configured \
+         by an earlier `hostctl readset` is gone (opening the port resets the master, which \
+         empties every read set); name the registers to watch after the options, \
+         e.g. `hostctl watch --readset 5 TEMPAMBIENT`"
     );
     assert_eq!(
         refused("watch --readset 1 --device 2"),

@@ -181,6 +181,7 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
         &mut Output {
             out: &mut out,
             in_place: false,
+            json: false,
         },
     );
     let text = String::from_utf8(out).unwrap();

@@ -93,6 +93,14 @@ pub enum CommandError {
     /// The words after the command do not fit it.
     #[error("usage: {0}")]
     Usage(&'static str),
+    /// A number that must not be negative was.
+    #[error("{what} `{given}` is negative; give 0 or more")]
+    Negative {
+        /// What the number stands for.
+        what: &'static str,
+        /// The text given.
+        given: String,
+    },
     /// A number was expected.
     #[error("`{given}` is not {what}")]
     BadNumber {
@@ -156,6 +164,19 @@ fn finite(word: &str, what: &'static str) -> Result<f64, CommandError> {
     }
 }
 
+/// A finite number of 0 or more (a spike adds current, for a while).
+fn non_negative(word: &str, what: &'static str, name: &'static str) -> Result<f64, CommandError> {
+    let v = finite(word, what)?;
+    if v < 0.0 {
+        return Err(CommandError::Negative {
+            what: name,
+            given: word.to_owned(),
+        });
+    }
+    // -0 parses as a negative zero; show it as 0.
+    Ok(v.abs())
+}
+
 impl Command {
     /// Parses one command line (words separated by blanks).
     pub fn parse(line: &str) -> Result<Command, CommandError> {
@@ -182,8 +203,8 @@ impl Command {
             ("spike", [w, axis, amps, ms]) => Ok(Command::Spike {
                 wheel: wheel(w)?,
                 axis: Axis::parse(axis).ok_or(CommandError::Usage(SPIKE))?,
-                amps: finite(amps, "a current in amperes")?,
-                ms: finite(ms, "a duration in milliseconds")?,
+                amps: non_negative(amps, "a current in amperes", "the spike current (A)")?,
+                ms: non_negative(ms, "a duration in milliseconds", "the spike duration (ms)")?,
             }),
             ("spike", _) => Err(CommandError::Usage(SPIKE)),
             ("sensor", [i, what]) => Ok(Command::Sensor {
@@ -385,6 +406,23 @@ mod tests {
         assert_eq!(
             e("spike 1 drive inf 3").as_deref(),
             Some("`inf` is not a current in amperes")
+        );
+        assert_eq!(
+            e("spike 1 drive -5 10").as_deref(),
+            Some("the spike current (A) `-5` is negative; give 0 or more")
+        );
+        assert_eq!(
+            e("spike 1 drive 5 -10").as_deref(),
+            Some("the spike duration (ms) `-10` is negative; give 0 or more")
+        );
+        assert_eq!(
+            Command::parse("spike 1 drive -0 0"),
+            Ok(Command::Spike {
+                wheel: 1,
+                axis: Axis::Drive,
+                amps: 0.0,
+                ms: 0.0
+            })
         );
         assert_eq!(
             Command::parse("sensor 2 eat"),

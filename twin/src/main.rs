@@ -50,7 +50,8 @@ struct RunArgs {
     /// Run as fast as the host allows instead of pacing to real time.
     #[arg(long)]
     unpaced: bool,
-    /// Print "speed N.NNx real time" on stderr every SECS seconds (0: never).
+    /// Print the speed on stderr every SECS seconds (0: never): paced, the compute headroom
+    /// over real time; unpaced, the speed it runs at.
     #[arg(long, value_name = "SECS", default_value_t = 0.0)]
     stats: f64,
     /// Exit after SECS seconds during which no program had the port open (0: never).
@@ -121,16 +122,26 @@ fn inject(
     control: Option<PathBuf>,
     line: &str,
 ) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    // A refused command, here or by the twin, is told the same way: `twin: ` on stderr and
+    // exit 2 (a failure to reach the twin is exit 1, from main).
+    let refused = |why: &str| {
+        eprintln!("twin: {why}");
+        ExitCode::from(2)
+    };
     // Check the command here too, so a typo is reported without a running twin.
-    Command::parse(line)?;
+    if let Err(e) = Command::parse(line) {
+        return Ok(refused(&e.to_string()));
+    }
     let socket =
         control.unwrap_or_else(|| paths::control_of(&link.unwrap_or_else(paths::default_link)));
     let reply = control::send(&socket, line)?;
-    println!("{reply}");
-    Ok(if reply.starts_with("error: ") {
-        ExitCode::from(2)
-    } else {
-        ExitCode::SUCCESS
+    // The control socket marks a refusal with `error: `.
+    Ok(match reply.strip_prefix("error: ") {
+        Some(why) => refused(why),
+        None => {
+            println!("{reply}");
+            ExitCode::SUCCESS
+        }
     })
 }
 
@@ -209,7 +220,8 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         if rover.threads() == 1 { "" } else { "s" }
     );
 
-    let mut server = Server::new(rover, pty, Some(socket), !args.unpaced);
+    let paced = !args.unpaced;
+    let mut server = Server::new(rover, pty, Some(socket), paced);
     let limits = Limits {
         emulated: args.seconds.and_then(seconds),
         idle: seconds(args.idle_exit),
@@ -222,7 +234,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         &mut |rover, emulated, wall| {
             if stats.is_some_and(|every| last.elapsed() >= every) {
                 last = std::time::Instant::now();
-                report_speed(rover, emulated, wall);
+                report_speed(rover, emulated, wall, paced);
             }
         },
     )?;
@@ -233,32 +245,16 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         );
     }
     if stats.is_some() {
-        eprintln!("twin: final: {}", speed_line(server.rover()));
+        eprintln!("twin: final: {}", server.rover().speed().describe(paced));
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// The speed: emulated time per second of the emulator's own work, and a warning when it
-/// cannot keep up with real time.
-fn speed_line(rover: &Rover) -> String {
-    let speed = rover.speed();
-    let ratio = speed.ratio();
-    let lag = if ratio < 1.0 {
-        "; slower than real time, so host timeouts come early"
-    } else {
-        ""
-    };
-    format!(
-        "speed {ratio:.2}x real time ({:.2}x per second of CPU){lag}",
-        speed.cpu_ratio()
-    )
-}
-
-fn report_speed(rover: &Rover, emulated: Duration, wall: Duration) {
+fn report_speed(rover: &Rover, emulated: Duration, wall: Duration, paced: bool) {
     eprintln!(
         "twin: {:.1} s emulated in {:.1} s, {}",
         emulated.as_secs_f64(),
         wall.as_secs_f64(),
-        speed_line(rover)
+        rover.speed().describe(paced)
     );
 }

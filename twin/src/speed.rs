@@ -34,6 +34,23 @@ impl Speed {
     pub fn cpu_ratio(&self) -> f64 {
         per(self.emulated, self.cpu)
     }
+
+    /// The speed in words. Paced, the twin serves real time, so [`Speed::ratio`] is its
+    /// headroom (how fast it could run), not the speed it runs at.
+    pub fn describe(&self, paced: bool) -> String {
+        let (ratio, cpu) = (self.ratio(), self.cpu_ratio());
+        let per_cpu = format!("{cpu:.2}x per second of CPU");
+        match (paced, ratio < 1.0) {
+            (true, false) => format!("paced to real time; compute headroom {ratio:.2}x ({per_cpu})"),
+            (true, true) => format!(
+                "paced to real time but computes only {ratio:.2}x real time ({per_cpu}), so host timeouts come early"
+            ),
+            (false, false) => format!("unpaced, running {ratio:.2}x real time ({per_cpu})"),
+            (false, true) => format!(
+                "unpaced, running {ratio:.2}x real time ({per_cpu}), slower than real time, so host timeouts come early"
+            ),
+        }
+    }
 }
 
 /// This thread's CPU time so far.
@@ -58,4 +75,39 @@ pub(crate) struct RunStart {
     pub(crate) wall: Instant,
     pub(crate) cpu: Duration,
     pub(crate) at_us: u64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn speed(busy_ms: u64) -> Speed {
+        Speed {
+            emulated: Duration::from_secs(15),
+            busy: Duration::from_millis(busy_ms),
+            cpu: Duration::from_millis(busy_ms * 2),
+        }
+    }
+
+    #[test]
+    fn paced_speed_is_told_as_headroom() {
+        assert_eq!(
+            speed(8475).describe(true),
+            "paced to real time; compute headroom 1.77x (0.88x per second of CPU)"
+        );
+        assert_eq!(
+            speed(20_000).describe(true),
+            "paced to real time but computes only 0.75x real time (0.38x per second of CPU), \
+             so host timeouts come early"
+        );
+        assert_eq!(
+            speed(8475).describe(false),
+            "unpaced, running 1.77x real time (0.88x per second of CPU)"
+        );
+        assert_eq!(
+            speed(20_000).describe(false),
+            "unpaced, running 0.75x real time (0.38x per second of CPU), slower than real \
+             time, so host timeouts come early"
+        );
+    }
 }

@@ -13,7 +13,7 @@ pub fn status(rover: &mut Rover) -> String {
     let speed = rover.speed();
     let _ = writeln!(
         out,
-        "emulated {:.3} s, speed {:.2}x real time ({:.2}x per second of CPU)",
+        "emulated {:.3} s, compute headroom {:.2}x real time ({:.2}x per second of CPU)",
         rover.micros() as f64 / 1e6,
         speed.ratio(),
         speed.cpu_ratio()

@@ -7,15 +7,23 @@
 //! [`super::script`] for the language), printing each line as it starts. `wait` and
 //! `watch` poll update() and show the live view: required against actual speed and
 //! position per wheel, redrawn in place on a terminal.
+//!
+//! With `--json` every printed thing is one JSON object per line, each with
+//! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
+//! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
+//! `updates`, `rate`, `wheels` with required and actual per motor, `master_exception`).
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use shared::regs::id;
+
 use super::live::{view_lines, Poller, Snapshot};
-use super::pc::{Op, Pc};
+use super::pc::{device_of, Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
 use crate::error::HostError;
+use crate::json;
 use crate::link::Link;
 use crate::port::Port;
 use crate::table::Screen;
@@ -95,6 +103,8 @@ pub struct Output<'a> {
     pub out: &'a mut dyn Write,
     /// Redraw the live view in place (a terminal).
     pub in_place: bool,
+    /// JSON lines instead of text.
+    pub json: bool,
 }
 
 /// Runs the script over a connected link.
@@ -106,16 +116,28 @@ pub fn run<P: Port>(
 ) -> Result<(), HostError> {
     let poller = Poller::new()?;
     poller.configure(link)?;
-    writeln!(
-        output.out,
-        "{}: {} lines; read sets 0, 1, 2 configured",
-        plan.path,
-        plan.lines.len()
-    )?;
+    if output.json {
+        let start = event()
+            .str("script", &plan.path)
+            .int("lines", i64::try_from(plan.lines.len()).unwrap_or(i64::MAX));
+        writeln!(output.out, "{}", start.finish())?;
+    } else {
+        writeln!(
+            output.out,
+            "{}: {} lines; read sets 0, 1, 2 configured",
+            plan.path,
+            plan.lines.len()
+        )?;
+    }
     for line in &plan.lines {
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
-            writeln!(output.out, "> {}", line.text)?;
+            if output.json {
+                let echo = event().int("line", number(line)).str("text", &line.text);
+                writeln!(output.out, "{}", echo.finish())?;
+            } else {
+                writeln!(output.out, "> {}", line.text)?;
+            }
             output.out.flush()?;
         }
         let step = |source| HostError::ScriptStep {
@@ -126,10 +148,61 @@ pub fn run<P: Port>(
         };
         // The view shows the demands as they stand after this line.
         for action in &line.actions {
-            act(action, link, clock, &poller, &line.pc, output).map_err(step)?;
+            act(action, link, clock, &poller, line, output).map_err(step)?;
         }
     }
     Ok(())
+}
+
+/// A JSON line of `run`, its members still to come.
+fn event() -> json::Object {
+    json::Object::new().str("command", "run")
+}
+
+/// A line's number as a JSON integer.
+fn number(line: &Line) -> i64 {
+    i64::try_from(line.number).unwrap_or(i64::MAX)
+}
+
+/// The live view as one JSON object: required against actual per wheel and motor (actual
+/// `null` when not read), and the master's EXCEPTIONDATA.
+fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f64) -> String {
+    let wheels = json::array(WHEELS.map(|wheel| {
+        let ds = device_of(wheel, Motor::Drive);
+        let ll = device_of(wheel, Motor::Lift);
+        let lift_reg = if wheel % 2 == 1 {
+            id::REGLL_ONE_ACTUALPOS
+        } else {
+            id::REGLL_TWO_ACTUALPOS
+        };
+        let motor = |m: Motor, device: u8, reg: u8| {
+            json::Object::new()
+                .num("required", line.pc.demand(wheel, m))
+                .num("actual", s.value(device, reg).unwrap_or(f32::NAN))
+                .finish()
+        };
+        json::Object::new()
+            .int("wheel", wheel)
+            .raw(
+                "drive",
+                &motor(Motor::Drive, ds, id::REGDS_DRIVE_ACTUALSPEED),
+            )
+            .raw("steer", &motor(Motor::Steer, ds, id::REGDS_STEER_ACTUALPOS))
+            .raw("lift", &motor(Motor::Lift, ll, lift_reg))
+            .finish()
+    }));
+    let exception = match s.raw(0, id::REGMASTER_EXCEPTIONDATA) {
+        Some(raw) => raw.to_string(),
+        None => "null".to_owned(),
+    };
+    event()
+        .int("line", number(line))
+        .num("elapsed_s", elapsed.as_secs_f32())
+        .int("updates", i64::try_from(updates).unwrap_or(i64::MAX))
+        .num("rate", rate as f32)
+        .raw("wheels", &wheels)
+        .raw("master_exception", &exception)
+        .finish()
 }
 
 fn act<P: Port>(
@@ -137,7 +210,7 @@ fn act<P: Port>(
     link: &mut Link<P>,
     clock: &mut dyn Clock,
     poller: &Poller,
-    pc: &Pc,
+    line: &Line,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     match action {
@@ -156,8 +229,12 @@ fn act<P: Port>(
             }
         }
         Action::Op(Op::Pause(d)) => clock.sleep(*d),
+        Action::Say(text) if output.json => {
+            let say = event().int("line", number(line)).str("say", text);
+            writeln!(output.out, "{}", say.finish())?;
+        }
         Action::Say(text) => writeln!(output.out, "{text}")?,
-        Action::Live { time, log } => live(*time, *log, link, clock, poller, pc, output)?,
+        Action::Live { time, log } => live(*time, *log, link, clock, poller, line, output)?,
     }
     Ok(())
 }
@@ -170,7 +247,7 @@ fn live<P: Port>(
     link: &mut Link<P>,
     clock: &mut dyn Clock,
     poller: &Poller,
-    pc: &Pc,
+    line: &Line,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let start = clock.now();
@@ -191,8 +268,12 @@ fn live<P: Port>(
         };
         if draw {
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
-            let lines = view_lines(&snapshot, pc, elapsed, updates, rate);
-            let text = if log {
+            let lines = view_lines(&snapshot, &line.pc, elapsed, updates, rate);
+            let text = if output.json {
+                let mut t = view_json(&snapshot, line, elapsed, updates, rate);
+                t.push('\n');
+                t
+            } else if log {
                 let mut t = lines.join("\n");
                 t.push('\n');
                 t
@@ -270,6 +351,7 @@ mod tests {
             &mut Output {
                 out: &mut out,
                 in_place: false,
+                json: false,
             },
         )
         .unwrap();
@@ -304,6 +386,58 @@ mod tests {
             text.contains("\n0.0 s: 2 updates, 200.0 update()/s"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn with_json_every_line_printed_is_a_json_object() {
+        let plan = plan("say Go\ndrive 1 1000\nwait 0.01\n");
+        let mut replies = configure_replies();
+        replies.push(vec![0]);
+        replies.extend(update_replies());
+        replies.extend(update_replies());
+        let mut port = FakePort::with_replies(&replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut out = Vec::new();
+        run(
+            &plan,
+            &mut link,
+            &mut clock,
+            &mut Output {
+                out: &mut out,
+                in_place: false,
+                json: true,
+            },
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[..4],
+            [
+                r#"{"command":"run","script":"t.rover","lines":3}"#,
+                r#"{"command":"run","line":1,"say":"Go"}"#,
+                r#"{"command":"run","line":2,"text":"drive 1 1000"}"#,
+                r#"{"command":"run","line":3,"text":"wait 0.01"}"#,
+            ]
+        );
+        // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000.
+        let wheel = |n: u8, drive: &str| {
+            format!(
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000}},"steer":{{"required":0,"actual":-200}},"lift":{{"required":0,"actual":-200}}}}"#
+            )
+        };
+        let wheels: Vec<String> = (1..=6)
+            .map(|n| wheel(n, if n == 1 { "1000" } else { "0" }))
+            .collect();
+        assert_eq!(
+            lines[4],
+            format!(
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0}}"#,
+                wheels.join(",")
+            )
+        );
+        assert_eq!(lines.len(), 5, "{text}");
     }
 
     #[test]
@@ -363,6 +497,7 @@ mod tests {
             &mut Output {
                 out: &mut out,
                 in_place: false,
+                json: false,
             },
         )
         .unwrap_err();

@@ -1,4 +1,8 @@
-//! The `hostctl run` script language: one command per line, `#` starts a comment.
+//! The `hostctl run` script language: one command per line, with comments.
+//!
+//! A comment runs from a `#` to the end of the line when the `#` starts the line, or follows
+//! a space and is followed by a space or the line's end: `drive all 100 # forward` drives,
+//! while `say Wheel #1 is the right rear` prints all of `Wheel #1 is the right rear`.
 //!
 //! | Line | What it does |
 //! |---|---|
@@ -12,7 +16,7 @@
 //! | `stop` | The operator's emergency stop (§10.3): 36 frames, every demand 0 |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
-//! | `say TEXT` | Print TEXT |
+//! | `say TEXT` | Print TEXT (up to a comment) |
 //!
 //! The whole script is checked, and its frames built, before anything is sent: a bad line
 //! is reported with its number. Demands are checked as the original library checks them
@@ -63,15 +67,23 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
     let mut pc = Pc::new();
     let mut lines = Vec::new();
     for (i, raw) in source.lines().enumerate() {
-        let text = raw.split('#').next().unwrap_or("").trim();
+        let text = without_comment(raw).trim();
         if text.is_empty() {
             continue;
         }
-        let actions = line(&mut pc, text).map_err(|why| HostError::ScriptLine {
-            path: path.to_owned(),
-            line: i + 1,
-            text: text.to_owned(),
-            why: why.to_string(),
+        let actions = line(&mut pc, text).map_err(|why| {
+            // `#forward` is a word, not a comment: say how to write one.
+            let hint = if text.split_whitespace().any(|w| w.starts_with('#')) {
+                "; a comment is `#` followed by a space"
+            } else {
+                ""
+            };
+            HostError::ScriptLine {
+                path: path.to_owned(),
+                line: i + 1,
+                text: text.to_owned(),
+                why: format!("{why}{hint}"),
+            }
         })?;
         lines.push(Line {
             number: i + 1,
@@ -81,6 +93,26 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
         });
     }
     Ok(lines)
+}
+
+/// `raw` without its comment. A `#` inside a word (`#1`, `a#b`) is text, so `say` can
+/// print it.
+fn without_comment(raw: &str) -> &str {
+    if raw.trim_start().starts_with('#') {
+        return "";
+    }
+    let starts_comment = |i: usize| {
+        raw[..i].ends_with(char::is_whitespace)
+            && raw[i + 1..].chars().next().is_none_or(char::is_whitespace)
+    };
+    match raw
+        .match_indices('#')
+        .map(|(i, _)| i)
+        .find(|&i| starts_comment(i))
+    {
+        Some(i) => &raw[..i],
+        None => raw,
+    }
 }
 
 /// Why a line is refused: a usage message or an error of the command it runs.
@@ -263,6 +295,30 @@ mod tests {
         assert_eq!(lines[5].actions, [Action::Say("done".into())]);
         assert_eq!(lines[5].pc.demand(1, Motor::Lift), 20.0);
         assert_eq!(lines[5].pc.demand(5, Motor::Steer), -40.0);
+    }
+
+    #[test]
+    fn a_hash_inside_a_word_is_text_not_a_comment() {
+        let lines = parse(
+            "s",
+            "say Wheel #1 is the right rear\n#note\n  # indented note\ndrive all 100 # forward\n\
+             say a#b # c\nsay trailing #\nsay #tag\tand #\tend\n",
+        )
+        .unwrap();
+        let numbers: Vec<usize> = lines.iter().map(|l| l.number).collect();
+        assert_eq!(numbers, [1, 4, 5, 6, 7]);
+        assert_eq!(
+            lines[0].actions,
+            [Action::Say("Wheel #1 is the right rear".into())]
+        );
+        assert_eq!(lines[1].text, "drive all 100");
+        assert_eq!(lines[2].actions, [Action::Say("a#b".into())]);
+        assert_eq!(lines[3].actions, [Action::Say("trailing".into())]);
+        assert_eq!(lines[4].actions, [Action::Say("#tag\tand".into())]);
+        assert_eq!(
+            refusal("drive all 100 #forward"),
+            "demo.rover line 1 (`drive all 100 #forward`): usage: drive|steer|lift W|all VALUE   (W = wheel 1..6); a comment is `#` followed by a space"
+        );
     }
 
     #[test]

@@ -152,6 +152,10 @@ pub struct Plan {
 /// Checks the arguments and builds the frames; nothing is sent.
 pub fn plan(args: &Args) -> Result<Plan, HostError> {
     let set = resolve::set(&args.readset)?;
+    // Opening the port resets the rover, so refuse a watch that would show nothing.
+    if args.count == Some(0) {
+        return Err(HostError::ZeroCount);
+    }
     let targets: Vec<Target> = match &args.device {
         Some(text) => vec![resolve::device(text)?],
         None => default_devices(set)
