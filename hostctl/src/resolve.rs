@@ -240,23 +240,34 @@ fn slave_use(reg: &Register) -> SlaveUse {
     SlaveUse::Value
 }
 
-/// A value for people, as the board uses it: unmapped registers as integers, mapped ones
-/// with three decimals, integer parameters truncated as the slave truncates them, and
-/// DRIVE_MODE as the mode applied.
-pub fn show(reg: &Register, raw: u16) -> String {
+/// What a board makes of `raw` written to `reg`: the unmapped value, except that integer
+/// parameters are truncated as the slave truncates them and DRIVE_MODE is the mode
+/// applied. (A register read back shows its own value, [`show`]: at boot a threshold's
+/// register holds 299.997 while the board uses its default, 300.)
+pub fn applied(reg: &Register, raw: u16) -> f32 {
     match slave_use(reg) {
         // The float32 result truncated equals the slave's fixed-point integer for every
         // raw value (shared::slave::scale, tested exhaustively there).
-        SlaveUse::Integer => return format!("{:.0}", mapping::unmap(raw, reg).trunc()),
-        SlaveUse::DriveMode => {
-            return match DriveMode::from_register(raw) {
-                DriveMode::Window => "0",
-                DriveMode::EdgeTiming => "1",
-            }
-            .to_owned()
-        }
-        SlaveUse::Value => {}
+        SlaveUse::Integer => mapping::unmap(raw, reg).trunc(),
+        SlaveUse::DriveMode => match DriveMode::from_register(raw) {
+            DriveMode::Window => 0.0,
+            DriveMode::EdgeTiming => 1.0,
+        },
+        SlaveUse::Value => mapping::unmap(raw, reg),
     }
+}
+
+/// [`applied`] for people: as [`show`] writes a value, whole numbers without decimals.
+pub fn arrives_as(reg: &Register, raw: u16) -> String {
+    match slave_use(reg) {
+        SlaveUse::Value => show(reg, raw),
+        SlaveUse::Integer | SlaveUse::DriveMode => format!("{:.0}", applied(reg, raw)),
+    }
+}
+
+/// A register's value for people: unmapped registers as integers, mapped ones with three
+/// decimals.
+pub fn show(reg: &Register, raw: u16) -> String {
     if reg.range.is_none() {
         return raw.to_string();
     }
@@ -473,26 +484,35 @@ mod tests {
     }
 
     #[test]
-    fn shown_values_are_what_the_slave_uses() {
+    fn written_values_arrive_as_the_slave_uses_them() {
         // Thresholds and stall checks are truncated to integers (reference §3: 10 → 9).
         let thresh = register(ds(), "DRIVE_OVERCURRENTTHRESH").unwrap();
-        assert_eq!(show(thresh, 0x028f), "9");
-        assert_eq!(show(thresh, 0x3332), "199");
-        assert_eq!(show(thresh, 0xfffe), "1000");
+        assert_eq!(arrives_as(thresh, 0x028f), "9");
+        assert_eq!(applied(thresh, 0x028f), 9.0);
+        assert_eq!(arrives_as(thresh, 0x3332), "199");
+        assert_eq!(arrives_as(thresh, 0xfffe), "1000");
         let stall = register(ds(), "STEER_STALLCHECK").unwrap();
-        assert_eq!(show(stall, 0x63), "99");
+        assert_eq!(arrives_as(stall, 0x63), "99");
         let lift = register(ll(), "TWO_OVERCURRENTTHRESH").unwrap();
-        assert_eq!(show(lift, 0x028f), "9");
-        assert_eq!(show(register(ll(), "ONE_STALLCHECK").unwrap(), 0xfe), "255");
+        assert_eq!(arrives_as(lift, 0x028f), "9");
+        assert_eq!(
+            arrives_as(register(ll(), "ONE_STALLCHECK").unwrap(), 0xfe),
+            "255"
+        );
         // DRIVE_MODE: 1 is mode 1; anything else is mode 0.
         let mode = register(ds(), "DRIVE_MODE").unwrap();
-        assert_eq!(show(mode, 1), "1");
-        assert_eq!(show(mode, 0), "0");
-        assert_eq!(show(mode, 5), "0");
+        assert_eq!(arrives_as(mode, 1), "1");
+        assert_eq!(arrives_as(mode, 0), "0");
+        assert_eq!(arrives_as(mode, 5), "0");
+        assert_eq!(applied(mode, 5), 0.0);
         // Other registers keep their mapped value.
         let cap = register(ds(), "DRIVE_INTEGRALCAP").unwrap();
-        assert_eq!(show(cap, 0x4ccc), "299.997");
-        assert_eq!(show(register(ds(), "FAULTTIME").unwrap(), 500), "500");
+        assert_eq!(arrives_as(cap, 0x4ccc), "299.997");
+        assert_eq!(arrives_as(register(ds(), "FAULTTIME").unwrap(), 500), "500");
+        // Read back, a register shows what it holds: at boot a threshold's register holds
+        // 299.997 (the board uses its default, 300), not a truncated 299.
+        assert_eq!(show(thresh, 0x4ccc), "299.997");
+        assert_eq!(show(mode, 5), "5");
         assert_eq!(unit_suffix(register(ds(), "DRIVE_PGAIN").unwrap()), "");
     }
 }

@@ -160,30 +160,45 @@ fn write_lift_and_master_reset_send_the_reference_frames() {
 
 #[test]
 fn write_says_what_the_board_uses_for_truncated_registers() {
-    let o = hostctl("write 1 drive_overcurrentthresh 10", &[[0x00]]);
+    let o = hostctl("write 1 drive_overcurrentthresh 10", &WRITTEN_RUNNING);
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["06 12 01 0f 8f 02"]);
+    assert_eq!(o.port.frames_hex()[0], "06 12 01 0f 8f 02");
     assert_eq!(
         o.out,
         "device 1 REGDS_DRIVE_OVERCURRENTTHRESH = 10 adc (raw 0x028f, arrives as 9 adc)\n"
     );
-    let o = hostctl("write 1 drive_stallcheck 100", &[[0x00]]);
+    let o = hostctl("write 1 drive_stallcheck 100", &WRITTEN_RUNNING);
     o.result.unwrap();
     assert_eq!(
         o.out,
         "device 1 REGDS_DRIVE_STALLCHECK = 100 duty (raw 0x63, arrives as 99 duty)\n"
     );
-    let o = hostctl("write 1 drive_mode 5", &[[0x00]]);
+    let o = hostctl("write 1 drive_mode 5", &WRITTEN_RUNNING);
     o.result.unwrap();
     assert_eq!(
         o.out,
         "device 1 REGDS_DRIVE_MODE = 5 mode (raw 0x05, arrives as 0 mode)\n"
     );
-    let o = hostctl("write 1 drive_mode 1", &[[0x00]]);
+    let o = hostctl("write 1 drive_mode 1", &WRITTEN_RUNNING);
     o.result.unwrap();
     assert_eq!(
         o.out,
         "device 1 REGDS_DRIVE_MODE = 1 mode (raw 0x01, arrives as 1 mode)\n"
+    );
+    // JSON's "applied" is the same value as a number.
+    let o = hostctl(
+        "--json write 1 drive_overcurrentthresh 10",
+        &WRITTEN_RUNNING,
+    );
+    assert!(o.out.contains(",\"applied\":9,"), "{}", o.out);
+    // Read back, the register shows what it holds.
+    let o = hostctl(
+        "read 1 drive_overcurrentthresh",
+        &[&[0x01][..], &[0xcc, 0x4c]],
+    );
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_OVERCURRENTTHRESH = 299.997 adc (raw 0x4ccc)\n"
     );
 }
 

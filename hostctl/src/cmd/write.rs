@@ -1,6 +1,5 @@
 //! `hostctl write DEV REG VALUE`: one register, one write frame.
 
-use shared::mapping;
 use shared::protocol::{self, Write};
 use shared::regs::Register;
 
@@ -82,7 +81,7 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
 /// What was written: the value asked for, the raw value and what the device
 /// makes of it, with what stands in its way (see [`fresh`]).
 fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -> String {
-    let applied = mapping::unmap(plan.raw, plan.reg);
+    let applied = resolve::applied(plan.reg, plan.raw);
     let boot_scale = plan.target.device != 0 && fresh::on_calibrated_scale(plan.reg);
     if json {
         let mut object = json::Object::new()
@@ -110,7 +109,7 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
         plan.value,
         resolve::unit_suffix(plan.reg),
         plan.raw,
-        resolve::show(plan.reg, plan.raw),
+        resolve::arrives_as(plan.reg, plan.raw),
         resolve::unit_suffix(plan.reg),
         width = usize::from(plan.reg.size) * 2,
     );
