@@ -348,10 +348,10 @@ mod tests {
             err.to_string(),
             "device 1 (DS table) has registers 0..47; there is no register 48"
         );
-        let err = register(device("0").unwrap(), "14").unwrap_err();
+        let err = register(device("0").unwrap(), "15").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "device 0 (MASTER table) has registers 0..13; there is no register 14"
+            "device 0 (MASTER table) has registers 0..14; there is no register 15"
         );
         assert!(matches!(
             register(ds(), "300"),

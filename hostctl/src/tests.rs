@@ -564,10 +564,11 @@ fn watch_stops_at_the_first_failed_read() {
 fn run_with_json_prints_json_lines() {
     let path = std::env::temp_dir().join(format!("hostctl-json-{}.rover", std::process::id()));
     std::fs::write(&path, "say Wheel one ready\n").unwrap();
-    // init(): read sets 0, 1, 2 via controllers 1..9, then the master.
+    // init(): read sets 0, 1, 2 via controllers 1..9, then the master (the library's
+    // eleven registers and REGMASTER_TEMPSREAD).
     let replies: Vec<Vec<u8>> = (1..=9u8)
         .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
-        .chain([vec![11]])
+        .chain([vec![12]])
         .collect();
     let o = hostctl(&format!("--json run {}", path.display()), &replies);
     std::fs::remove_file(&path).unwrap();

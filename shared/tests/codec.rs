@@ -23,9 +23,10 @@ fn encode_write_errors() {
         encode_write(1, &[w(9, 0), w(past, 0)], &mut out),
         Err(EncodeError::UnknownRegister(past))
     );
+    let past_master = BoardKind::Master.len();
     assert_eq!(
-        encode_write(0, &[w(14, 0)], &mut out),
-        Err(EncodeError::UnknownRegister(14))
+        encode_write(0, &[w(past_master, 0)], &mut out),
+        Err(EncodeError::UnknownRegister(past_master))
     );
     assert_eq!(
         encode_write(1, &[w(0, 0x100)], &mut out),
@@ -91,7 +92,11 @@ fn reply_length_depends_on_the_board() {
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[23, 44]), Some(4));
     assert_eq!(read_reply_len(BoardKind::LiftLift, &[23, 44]), Some(2));
     assert_eq!(read_reply_len(BoardKind::Master, &[0, 11]), Some(3));
-    assert_eq!(read_reply_len(BoardKind::Master, &[14]), None);
+    assert_eq!(read_reply_len(BoardKind::Master, &[14]), Some(2));
+    assert_eq!(
+        read_reply_len(BoardKind::Master, &[BoardKind::Master.len()]),
+        None
+    );
     let past = BoardKind::DriveSteer.len();
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[past]), None);
     assert_eq!(read_reply_len(BoardKind::DriveSteer, &[]), Some(0));
@@ -123,9 +128,10 @@ fn decode_read_reply_errors_leave_out_empty() {
         })
     );
     assert!(out.is_empty());
+    let past_master = BoardKind::Master.len();
     assert_eq!(
-        decode_read_reply(BoardKind::Master, &[1, 14], &[0, 0, 0], &mut out),
-        Err(DecodeError::UnknownRegister(14))
+        decode_read_reply(BoardKind::Master, &[1, past_master], &[0, 0, 0], &mut out),
+        Err(DecodeError::UnknownRegister(past_master))
     );
     let ids = [1u8; READ_SET_SIZE + 1];
     let bytes = [0u8; 2 * (READ_SET_SIZE + 1)];

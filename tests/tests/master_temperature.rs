@@ -27,8 +27,19 @@ fn set_2_holds_every_sensor_after_2_d_seconds() {
         sensors.set_half_degrees(i, half);
     }
     avr.uart_read_until(b"Ready\r\n", 2_000_000).unwrap();
+    // REGMASTER_TEMPSREAD (id 14, new) in set 3: no sensor read yet at boot.
+    avr.uart_send(&[0x04, 0x04, 0x03, 14]);
+    assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [1]);
+    avr.uart_send(&[0x03, 0x03, 0x03]);
+    assert_eq!(avr.uart_read_exact(2, 100_000).unwrap(), [0, 0]);
     // D = 10: sensor 9 is read by the tenth tick, at about 5 + 9·2 s.
     avr.run_us(24_000_000);
+    avr.uart_send(&[0x03, 0x03, 0x03]);
+    assert_eq!(
+        avr.uart_read_exact(2, 100_000).unwrap(),
+        [0xff, 0x03],
+        "all ten sensors read"
+    );
     avr.uart_send(&[0x0e, 0x04, 0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]);
     assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [11]);
     avr.uart_send(&[0x03, 0x03, 0x02]);
@@ -65,6 +76,9 @@ fn a_missing_sensor_raises_type_10_and_spreads_it_to_all_nine() {
     rig.clear_records();
     rig.run_to(5_300_000);
     assert_eq!(rig.master_exception(), 0x000a);
+    // The missing sensor is never marked read (REGMASTER_TEMPSREAD bit 1 stays clear).
+    let read = rig.master_regs(&[14], 2);
+    assert_eq!(read[0] & 0b10, 0, "sensor 1 never read: {read:02x?}");
     for addr in 1..=9 {
         let s = rig.slave(addr);
         assert_eq!(

@@ -83,14 +83,15 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
     if boot_settle > 0.0 {
         s.pass(boot_settle);
     }
-    // Read only the master's set 2 (22 bytes, ~2 ms): controller 5 no longer answers,
-    // so a full update() would time out on it.
+    // Read only the master's set 2 (hostctl's: the library's eleven registers and
+    // REGMASTER_TEMPSREAD, 24 bytes, ~2 ms): controller 5 no longer answers, so a full
+    // update() would time out on it.
     let set2 = [0x03, 0x03, 0x02];
     let cut_at = s.clock_now();
     s.twin.borrow_mut().cut(5).unwrap();
     let mut seen = None;
     while s.clock_now() - cut_at < Duration::from_millis(500) {
-        let reply = s.link.transact(0, &set2, 22).unwrap();
+        let reply = s.link.transact(0, &set2, 24).unwrap();
         let data = u16::from_le_bytes([reply[20], reply[21]]);
         if data != 0 {
             seen = Some((data, s.clock_now() - cut_at));
@@ -210,7 +211,7 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
         "RC drive: {speeds:?}"
     );
     // While the link is up, PC frames are swallowed with no reply.
-    assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 22).is_err());
+    assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_err());
 }
 
 /// Whether every slave has both PWM outputs at duty 0, read from the chips' timers.

@@ -57,7 +57,8 @@ impl Snapshot {
 }
 
 impl Poller {
-    /// The ten reads of update(), with the library's standard sets.
+    /// The ten reads of update(), with the library's standard sets; the master's set also
+    /// holds REGMASTER_TEMPSREAD, so a sensor not read yet is not shown as 0.0 °C.
     pub fn new() -> Result<Poller, HostError> {
         let mut reads = Vec::new();
         for device in (1..=9).chain([0]) {
@@ -65,9 +66,15 @@ impl Poller {
                 given: device.to_string(),
             })?;
             let set = set_of(target.kind);
+            let extra: &[u8] = if device == 0 {
+                &[id::REGMASTER_TEMPSREAD]
+            } else {
+                &[]
+            };
             let regs = super::watch::standard_ids(set)
                 .ok_or(HostError::NoStandardSet { set })?
                 .iter()
+                .chain(extra)
                 .map(|&reg| resolve::register(target, &reg.to_string()))
                 .collect::<Result<Vec<_>, _>>()?;
             reads.push(SetRead::new(target, set, regs)?);
@@ -177,12 +184,27 @@ fn master_line(s: &Snapshot) -> String {
             )
         }
     };
+    // A sensor the master has not read since boot (or cannot find) holds 0.0 °C, which
+    // is no reading: shown as "-".
+    let read = s.raw(0, id::REGMASTER_TEMPSREAD);
+    let temp = |reg: u8| {
+        let bit = reg - id::REGMASTER_TEMPAMBIENT;
+        match read {
+            Some(bits) if bits & (1 << bit) == 0 => "-".to_owned(),
+            _ => cell(s.value(0, reg), 1),
+        }
+    };
+    let ambient = temp(id::REGMASTER_TEMPAMBIENT);
     let temps: Vec<String> = (id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9)
-        .map(|r| cell(s.value(0, r), 1))
+        .map(temp)
         .collect();
+    let unread = if ambient == "-" || temps.iter().any(|t| t == "-") {
+        " (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"
+    } else {
+        ""
+    };
     format!(
-        "master: {exception}; °C ambient {}, boards {}",
-        cell(s.value(0, id::REGMASTER_TEMPAMBIENT), 1),
+        "master: {exception}; °C ambient {ambient}, boards {}{unread}",
         temps.join(" ")
     )
 }
@@ -346,6 +368,30 @@ mod tests {
             "master: exception: stall on controller 2 (motor 0); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
         );
         assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
+    }
+
+    #[test]
+    fn a_sensor_not_read_yet_is_not_shown_as_zero_degrees() {
+        // Ambient and controller 2 read; the others still hold 0.0 °C (raw 0x2aaa).
+        let mut master = vec![
+            (id::REGMASTER_EXCEPTIONDATA, 0),
+            (id::REGMASTER_TEMPAMBIENT, 0x5887),
+            (id::REGMASTER_TEMPSREAD, 0b101),
+        ];
+        master.extend((id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9).map(|r| (r, 0x2aaa)));
+        let s = Snapshot::new(vec![(0, master.clone())]);
+        assert_eq!(
+            master_line(&s),
+            "master: no exception; °C ambient 21.5, boards - 0.0 - - - - - - - \
+             (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"
+        );
+        // Every sensor read: no legend.
+        master.retain(|&(r, _)| r != id::REGMASTER_TEMPSREAD);
+        master.push((id::REGMASTER_TEMPSREAD, 0x3ff));
+        assert_eq!(
+            master_line(&Snapshot::new(vec![(0, master)])),
+            "master: no exception; °C ambient 21.5, boards 0.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0"
+        );
     }
 
     #[test]

@@ -312,14 +312,15 @@ mod tests {
     fn configure_replies() -> Vec<Vec<u8>> {
         (1..=9u8)
             .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
-            .chain([vec![11]])
+            // The master's set: the library's eleven registers and REGMASTER_TEMPSREAD.
+            .chain([vec![12]])
             .collect()
     }
 
     fn update_replies() -> Vec<Vec<u8>> {
         (1..=9u8)
             .map(|d| vec![0u8; if d % 3 == 0 { 36 } else { 40 }])
-            .chain([vec![0u8; 22]])
+            .chain([vec![0u8; 24]])
             .collect()
     }
 
@@ -364,7 +365,8 @@ mod tests {
             hex[2],
             "15 34 01 01 02 03 05 10 11 12 13 14 15 16 22 23 24 25 26 27 28"
         );
-        assert_eq!(hex[9], "0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b");
+        // The master's set 2: the library's eleven registers, then REGMASTER_TEMPSREAD.
+        assert_eq!(hex[9], "0f 04 02 01 02 03 04 05 06 07 08 09 0a 0b 0e");
         assert_eq!(hex[10], "06 12 01 09 fe 9f");
         assert_eq!(
             hex[41], "03 13 00",

@@ -7,8 +7,12 @@ use crate::regs::id;
 /// Raw value of 0.0 °C over -20..100, what a sensor that was never read shows.
 const ZERO_CELSIUS_RAW: u16 = 0x2aaa;
 
-/// Registers of device 0 (ids 0..=13).
-const REGISTERS: usize = id::REGMASTER_ERRORCOUNT as usize + 1;
+/// Registers of device 0 (ids 0..=14).
+const REGISTERS: usize = id::REGMASTER_TEMPSREAD as usize + 1;
+/// Where `values` keeps each of the new registers.
+const LAST_ERROR: usize = id::REGMASTER_LASTERROR as usize;
+const ERROR_COUNT: usize = id::REGMASTER_ERRORCOUNT as usize;
+const TEMPS_READ: usize = id::REGMASTER_TEMPSREAD as usize;
 
 /// The master-local registers and the state behind them.
 #[derive(Clone, Debug)]
@@ -18,7 +22,8 @@ pub struct LocalRegisters {
     /// The stored registers' raw values, index = id: 0 for REGMASTER_RESET (write-only
     /// in effect), the raw (mapped) temperatures (ambient, then controllers 1..9), an
     /// unused slot for REGMASTER_EXCEPTIONDATA (read from the latch), the last error's
-    /// code and the error count. One array, so a read is one indexed load.
+    /// code, the error count and the sensors read. One array, so a read is one indexed
+    /// load.
     values: [u16; REGISTERS],
 }
 
@@ -66,8 +71,8 @@ impl LocalRegisters {
         }
     }
 
-    /// Stores raw temperature `raw` of sensor `index` (0 ambient, then controllers 1..9);
-    /// another index is ignored.
+    /// Stores raw temperature `raw` of sensor `index` (0 ambient, then controllers 1..9)
+    /// and marks it read in REGMASTER_TEMPSREAD; another index is ignored.
     pub fn set_temperature(&mut self, index: u8, raw: u16) {
         if index <= id::REGMASTER_TEMP9 - id::REGMASTER_TEMPAMBIENT {
             if let Some(t) = self
@@ -76,6 +81,7 @@ impl LocalRegisters {
             {
                 *t = raw;
             }
+            self.values[TEMPS_READ] |= 1 << index;
         }
     }
 
@@ -83,30 +89,27 @@ impl LocalRegisters {
     // Out of line: the frame logic and the link's byte errors and timeout share one copy.
     #[inline(never)]
     pub fn record(&mut self, e: LinkError) {
-        let [.., last_error, error_count] = &mut self.values;
-        *last_error = u16::from(e.code());
-        *error_count = error_count.wrapping_add(1);
+        self.values[LAST_ERROR] = u16::from(e.code());
+        self.values[ERROR_COUNT] = self.values[ERROR_COUNT].wrapping_add(1);
     }
 
     /// The last error recorded, if any.
     pub fn last_error(&self) -> Option<LinkError> {
-        let [.., last_error, _] = self.values;
         // Only `record` writes it, with a one-byte code.
-        LinkError::from_code(last_error as u8)
+        LinkError::from_code(self.values[LAST_ERROR] as u8)
     }
 
     /// How many errors were recorded (wraps at 65536).
     pub fn error_count(&self) -> u16 {
-        let [.., error_count] = self.values;
-        error_count
+        self.values[ERROR_COUNT]
     }
 }
 
-// The last two registers are the last error and the error count, and the temperatures
-// sit between RESET and EXCEPTIONDATA: what `record`, `read` and `set_temperature` index.
+// The temperatures sit between RESET and EXCEPTIONDATA, and ten sensors fit the read
+// bits: what `read` and `set_temperature` index.
 const _: () = assert!(
-    id::REGMASTER_LASTERROR as usize == REGISTERS - 2
-        && id::REGMASTER_RESET == 0
+    id::REGMASTER_RESET == 0
+        && id::REGMASTER_TEMP9 - id::REGMASTER_TEMPAMBIENT < 16
         && id::REGMASTER_TEMPAMBIENT == 1
         && id::REGMASTER_EXCEPTIONDATA == id::REGMASTER_TEMP9 + 1
 );
@@ -130,7 +133,8 @@ mod tests {
         expected[11] = Some(l.exception.data());
         expected[12] = Some(u16::from(LinkError::BadDevice.code()));
         expected[13] = Some(2);
-        expected[14] = None;
+        // Sensors 0 and 9 read; the out-of-range index 10 marks nothing.
+        expected[14] = Some(0b10_0000_0001);
         expected[15] = None;
         for (reg, want) in (0..16u8).zip(expected) {
             assert_eq!(l.read(reg), want, "{reg}");

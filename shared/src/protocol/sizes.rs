@@ -222,10 +222,11 @@ mod tests {
                 assert_eq!(writable(sizes, id), kind.is_writable(id), "{kind:?} {id}");
             }
         }
-        // Spot values: REG_RESET is a writable byte; the master has no id 14.
+        // Spot values: REG_RESET is a writable byte; the master has no id 15.
         let ds = Sizes::of(BoardKind::DriveSteer);
         assert_eq!((ds.size_of(0), writable(ds, 0)), (Some(1), Some(true)));
-        assert_eq!(Sizes::of(BoardKind::Master).size_of(14), None);
+        assert_eq!(Sizes::of(BoardKind::Master).size_of(14), Some(2));
+        assert_eq!(Sizes::of(BoardKind::Master).size_of(15), None);
         assert_eq!(Sizes::of(BoardKind::LiftLift).size_of(47), None);
     }
 
