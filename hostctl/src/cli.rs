@@ -7,6 +7,8 @@ use crate::cmd;
 /// The longest `--settle-ms`: a minute, far beyond the slaves' reboot, so a typo cannot
 /// hang hostctl.
 pub const MAX_SETTLE_MS: u64 = 60_000;
+/// The longest pause between two `watch` rounds: an hour, as for a script's `wait`.
+pub const MAX_INTERVAL_MS: u64 = 3_600_000;
 
 /// Talk to the Blodwen rover (or its twin) over the master's serial link.
 ///

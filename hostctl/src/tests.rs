@@ -669,6 +669,19 @@ fn readset_help_says_the_set_ends_with_the_session() {
 }
 
 #[test]
+fn watch_interval_is_bounded_to_an_hour() {
+    let parse =
+        |ms: &str| Cli::try_parse_from(["hostctl", "watch", "--readset", "2", "--interval-ms", ms]);
+    assert!(parse("3600000").is_ok());
+    let err = parse("3600001").unwrap_err();
+    assert_eq!(err.exit_code(), 2);
+    assert!(
+        err.to_string().contains("3600001 is not in 0..=3600000"),
+        "{err}"
+    );
+}
+
+#[test]
 fn settle_ms_is_bounded_to_a_minute() {
     let parse = |ms: &str| Cli::try_parse_from(["hostctl", "--settle-ms", ms, "read", "0", "1"]);
     assert_eq!(parse("60000").unwrap().settle_ms, 60_000);

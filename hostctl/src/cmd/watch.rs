@@ -31,8 +31,13 @@ pub struct Args {
     /// Stop after this many rounds [default: run until interrupted].
     #[arg(long, value_name = "K")]
     pub count: Option<u64>,
-    /// Pause between rounds, in milliseconds.
-    #[arg(long, value_name = "MS", default_value_t = 500)]
+    /// Pause between rounds, in milliseconds (at most an hour).
+    #[arg(
+        long,
+        value_name = "MS",
+        default_value_t = 500,
+        value_parser = clap::value_parser!(u64).range(..=crate::cli::MAX_INTERVAL_MS)
+    )]
     pub interval_ms: u64,
     /// Registers to put in the set first (names or numbers, at most 24).
     #[arg(value_name = "REG")]
