@@ -11,7 +11,8 @@
 //! With `--json` every printed thing is one JSON object per line, each with
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
-//! `updates`, `rate`, `wheels` with required and actual per motor, `master_exception`).
+//! `updates`, `rate`, `wheels` with required, actual and calibrated per motor,
+//! `master_exception`).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -175,10 +176,18 @@ fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f
         } else {
             id::REGLL_TWO_ACTUALPOS
         };
+        // `calibrated` false: a position on a pot scale that is not the wheel's, not degrees
+        // (see `Pc::calibrated`).
         let motor = |m: Motor, device: u8, reg: u8| {
+            let calibrated = if line.pc.calibrated(wheel, m) {
+                "true"
+            } else {
+                "false"
+            };
             json::Object::new()
                 .num("required", line.pc.demand(wheel, m))
                 .num("actual", s.value(device, reg).unwrap_or(f32::NAN))
+                .raw("calibrated", calibrated)
                 .finish()
         };
         json::Object::new()
@@ -424,9 +433,10 @@ mod tests {
             ]
         );
         // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000.
+        // No `calibrate`: the positions are not degrees.
         let wheel = |n: u8, drive: &str| {
             format!(
-                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000}},"steer":{{"required":0,"actual":-200}},"lift":{{"required":0,"actual":-200}}}}"#
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true}},"steer":{{"required":0,"actual":-200,"calibrated":false}},"lift":{{"required":0,"actual":-200,"calibrated":false}}}}"#
             )
         };
         let wheels: Vec<String> = (1..=6)
