@@ -47,4 +47,5 @@ echo
 echo
 stop_twin
 echo "demo: the twin's own report (emulated time against wall-clock time):"
-grep 'speed' "$work/twin.log" | tail -n 2 | sed 's/^/  /'
+# Its report lines read "twin: E s emulated in W s, …"; none is no failure of the demo.
+grep 'emulated in' "$work/twin.log" | tail -n 2 | sed 's/^/  /' || true

@@ -9,8 +9,8 @@
 //!
 //! A pseudo-terminal has no DTR line, so the Uno's auto-reset when a host opens
 //! the port cannot come from the line itself. Instead the pty watches its path with
-//! inotify: [`Pty::host_event`] reports each open and the last close by a host
-//! program, and a caller that stands for an Uno resets the chip on open (as the
+//! inotify: [`Pty::host_event`] reports the first open (a port already open keeps
+//! DTR as it is) and the last close by host programs, and a caller that stands for an Uno resets the chip on open (as the
 //! twin does), and on the last close when the host left HUPCL set
 //! ([`Pty::hangs_up_on_close`]). While no host has the port open, firmware output is
 //! discarded, as bytes sent to a closed USB serial port are, so a host that opens the
@@ -75,7 +75,7 @@ impl SerialEnd for Avr {
 /// A change in whether a host program has the port open.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum HostEvent {
-    /// A host program opened the port (the Uno would reset now).
+    /// A host program opened the port that no other had open (the Uno would reset now).
     Opened,
     /// The last host program closed the port.
     Closed,
@@ -132,7 +132,7 @@ impl Pty {
     }
 
     /// Reports the most recent change since the last call: `Opened` if a host opened
-    /// the port (even if it closed it again since), `Closed` if the last host closed it,
+    /// the port while no other had it open (even if it closed it again since), `Closed` if the last host closed it,
     /// `None` if nothing changed.
     pub fn host_event(&mut self) -> Option<HostEvent> {
         self.poll_watch();
@@ -156,9 +156,13 @@ impl Pty {
             }
             for e in events {
                 if e.mask.contains(AddWatchFlags::IN_OPEN) {
+                    // Only the first open raises DTR: a second program opening a port
+                    // already open (`stty -F`, a second hostctl) resets nothing.
+                    if self.host_opens == 0 {
+                        self.opened = true;
+                        self.pending.clear();
+                    }
                     self.host_opens += 1;
-                    self.opened = true;
-                    self.pending.clear();
                 } else {
                     self.host_opens = self.host_opens.saturating_sub(1);
                 }

@@ -195,3 +195,35 @@ fn closing_the_port_stops_a_rover_left_driving() {
     thread.join().unwrap();
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_second_open_of_a_port_in_use_resets_nothing() {
+    let dir = std::env::temp_dir().join(format!("twin-second-open-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("port");
+    let control = twin::paths::control_of(&link);
+    let (_path, stop, thread) = start_twin(Some(link.clone()));
+    let port = link.display().to_string();
+    let mut clock = hostctl::twin::clock_for(&port);
+    let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
+    clock.sleep(Duration::from_millis(300));
+    let before = slave_resets(&control);
+
+    // `stty -F` or a second program opens the port and closes it again: on the Uno DTR
+    // stays as the first program holds it, so nothing reboots.
+    let other = std::fs::File::open(&link).unwrap();
+    clock.sleep(Duration::from_millis(500));
+    drop(other);
+    clock.sleep(Duration::from_millis(500));
+    assert_eq!(slave_resets(&control), before, "no reset by a second open");
+    // The first program's session goes on: device 0 answers its frames.
+    assert_eq!(
+        serial.transact(0, &[0x04, 0x04, 0x06, 0x0b], 1).unwrap(),
+        [1]
+    );
+
+    drop(serial);
+    stop.store(true, Ordering::SeqCst);
+    thread.join().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}
