@@ -77,6 +77,8 @@ pub enum Command {
     /// live view of required against actual per wheel), say TEXT. A comment starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
-    /// sent.
+    /// sent. drive, steer, lift and turn are checked against the library's limits (steer
+    /// and lift: the calibration less 10°); `write` only against the register's range, as
+    /// the original library's own register writes are.
     Run(cmd::run::Args),
 }

@@ -127,7 +127,7 @@ fn type_name(code: u8) -> String {
 
 /// The exceptions of one wheel's three motors, routed as the library routes them (DS:
 /// motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
-fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
+pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
     let mut parts: Vec<(Motor, String)> = Vec::new();
     if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Drive)) {
         if m != 1 {
@@ -154,6 +154,15 @@ fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
     }
 }
 
+/// A demand as the required column shows it: "-" when none was sent this session (the
+/// board then holds whatever it was last given, which this view cannot know).
+fn demand(v: Option<f32>, decimals: usize) -> String {
+    match v {
+        Some(v) => format!("{v:.decimals$}"),
+        None => "-".to_owned(),
+    }
+}
+
 fn cell(v: Option<f32>, decimals: usize) -> String {
     match v {
         Some(v) => {
@@ -169,7 +178,7 @@ fn cell(v: Option<f32>, decimals: usize) -> String {
 }
 
 /// The master's exception in words.
-fn master_line(s: &Snapshot) -> String {
+pub(crate) fn master_line(s: &Snapshot) -> String {
     let data = s.raw(0, id::REGMASTER_EXCEPTIONDATA).unwrap_or(0);
     let exception = if data == 0 {
         "no exception".to_owned()
@@ -189,8 +198,11 @@ fn master_line(s: &Snapshot) -> String {
     let read = s.raw(0, id::REGMASTER_TEMPSREAD);
     let temp = |reg: u8| {
         let bit = reg - id::REGMASTER_TEMPAMBIENT;
-        match read {
-            Some(bits) if bits & (1 << bit) == 0 => "-".to_owned(),
+        match (read, s.raw(0, reg)) {
+            (Some(bits), _) if bits & (1 << bit) == 0 => "-".to_owned(),
+            // The register's ends (-20..100 °C) hold any reading beyond them.
+            (_, Some(0)) => "≤-20.0".to_owned(),
+            (_, Some(0xfffe..)) => "≥100.0".to_owned(),
             _ => cell(s.value(0, reg), 1),
         }
     };
@@ -259,11 +271,11 @@ pub fn view_lines(
         };
         table.rows.push(vec![
             wheel.to_string(),
-            format!("{:.0}", pc.demand(wheel, Motor::Drive)),
+            demand(pc.demand(wheel, Motor::Drive), 0),
             cell(s.value(ds, id::REGDS_DRIVE_ACTUALSPEED), 0),
-            format!("{:.1}", pc.demand(wheel, Motor::Steer)),
+            demand(pc.demand(wheel, Motor::Steer), 1),
             position(s.value(ds, id::REGDS_STEER_ACTUALPOS), wheel, Motor::Steer),
-            format!("{:.1}", pc.demand(wheel, Motor::Lift)),
+            demand(pc.demand(wheel, Motor::Lift), 1),
             position(s.value(ll, lift_reg), wheel, Motor::Lift),
         ]);
         exceptions.push(wheel_exceptions(s, wheel));
@@ -284,7 +296,7 @@ pub fn view_lines(
     }
     lines.push(master_line(s));
     lines.push(format!(
-        "{:.1} s: {updates} updates, {rate:.1} update()/s (required = last demand sent; actual = read from the boards)",
+        "{:.1} s: {updates} updates, {rate:.1} update()/s (required = last demand sent, - none this session; actual = read from the boards)",
         elapsed.as_secs_f64()
     ));
     lines
@@ -339,6 +351,7 @@ mod tests {
         pc.calibrate().unwrap();
         pc.set_required(1, Motor::Drive, 1000.0).unwrap();
         pc.set_required(1, Motor::Lift, 20.0).unwrap();
+        pc.set_required(2, Motor::Steer, 0.0).unwrap();
         let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
         assert_eq!(
             lines[0],
@@ -346,21 +359,22 @@ mod tests {
         );
         assert_eq!(
             lines[2],
-            "1           1000     1000        0.0    40.0      20.0    20.0  -"
+            "1           1000     1000          -    40.0      20.0    20.0  -"
         );
+        // A demand not sent this session is "-", one sent as 0 is 0.
         // Controller 2 in exception with motor 0 (drive); controller 4 with no motor
         // (drive and steer) and LL 6 with no motor (wheel 3's lift); wheel 4's lift too.
         assert_eq!(
             lines[3],
-            "2              0        0        0.0    40.0       0.0     0.0  drive stall"
+            "2              -        0        0.0    40.0         -     0.0  drive stall"
         );
         assert_eq!(
             lines[4],
-            "3              0        0        0.0    40.0       0.0    20.0  boot"
+            "3              -        0          -    40.0         -    20.0  boot"
         );
         assert_eq!(
             lines[5],
-            "4              0        0        0.0    40.0       0.0     0.0  lift boot"
+            "4              -        0          -    40.0         -     0.0  lift boot"
         );
         assert_eq!(lines[6].trim_end().chars().last(), Some('-'));
         assert_eq!(
@@ -385,6 +399,17 @@ mod tests {
             "master: no exception; °C ambient 21.5, boards - 0.0 - - - - - - - \
              (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"
         );
+        // At the register's ends a reading may be beyond them.
+        let mut ends = master.clone();
+        ends.retain(|&(r, _)| r != id::REGMASTER_TEMPAMBIENT && r != id::REGMASTER_TEMP1);
+        ends.extend([
+            (id::REGMASTER_TEMPAMBIENT, 0),
+            (id::REGMASTER_TEMP1, 0xfffe),
+        ]);
+        ends.retain(|&(r, _)| r != id::REGMASTER_TEMPSREAD);
+        ends.push((id::REGMASTER_TEMPSREAD, 0x3ff));
+        assert!(master_line(&Snapshot::new(vec![(0, ends)]))
+            .starts_with("master: no exception; °C ambient ≤-20.0, boards ≥100.0 0.0 "),);
         // Every sensor read: no legend.
         master.retain(|&(r, _)| r != id::REGMASTER_TEMPSREAD);
         master.push((id::REGMASTER_TEMPSREAD, 0x3ff));
@@ -400,7 +425,7 @@ mod tests {
         let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
         assert_eq!(
             lines[2],
-            "1              0     1000        0.0   40.0*       0.0   20.0*  -"
+            "1              -     1000          -   40.0*         -   20.0*  -"
         );
         let legend = "* not degrees: the board's pot calibration is not the wheel's (no \
                       `calibrate` since the port opened, or a `stop`, which sends -100/100)";

@@ -157,11 +157,12 @@ pub enum Op {
     Pause(std::time::Duration),
 }
 
-/// The library's state for all six wheels: blocks and last demands.
+/// The library's state for all six wheels: blocks and last demands (`None`: none sent
+/// since the port opened, so the board's own required value is unknown here).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pc {
     blocks: [[Block; 3]; 6],
-    demands: [[f32; 3]; 6],
+    demands: [[Option<f32>; 3]; 6],
 }
 
 impl Default for Pc {
@@ -206,11 +207,11 @@ fn raw(kind: BoardKind, device: u8, reg: u8, value: f32) -> Result<Write, HostEr
 }
 
 impl Pc {
-    /// The library after init: default blocks, zero demands.
+    /// The library after init: default blocks, no demands sent.
     pub fn new() -> Pc {
         Pc {
             blocks: [[Block::DEFAULT; 3]; 6],
-            demands: [[0.0; 3]; 6],
+            demands: [[None; 3]; 6],
         }
     }
 
@@ -236,8 +237,8 @@ impl Pc {
         }
     }
 
-    /// The last demand recorded for `motor` of `wheel`.
-    pub fn demand(&self, wheel: u8, motor: Motor) -> f32 {
+    /// The last demand sent to `motor` of `wheel` in this session, if any.
+    pub fn demand(&self, wheel: u8, motor: Motor) -> Option<f32> {
         self.demands[usize::from(wheel - 1)][motor.index()]
     }
 
@@ -246,7 +247,7 @@ impl Pc {
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 if device_of(wheel, motor) == device && demand_register(wheel, motor) == reg {
-                    self.demands[usize::from(wheel - 1)][motor.index()] = value;
+                    self.demands[usize::from(wheel - 1)][motor.index()] = Some(value);
                 }
             }
         }
@@ -350,7 +351,7 @@ impl Pc {
             }
         }
         let write = raw(kind, device, reg, value)?;
-        self.demands[usize::from(wheel - 1)][motor.index()] = value;
+        self.demands[usize::from(wheel - 1)][motor.index()] = Some(value);
         write_frame(device, &[write], "a demand")
     }
 
@@ -584,7 +585,12 @@ mod tests {
             f(pc.set_required(2, Motor::Lift, 20.0).unwrap()),
             "06 32 01 1b cb 8c"
         );
-        assert_eq!(pc.demand(1, Motor::Drive), 1000.0);
+        assert_eq!(pc.demand(1, Motor::Drive), Some(1000.0));
+        assert_eq!(
+            pc.demand(2, Motor::Drive),
+            None,
+            "nothing sent to wheel 2's drive"
+        );
         // Before calibrate the limits are -90..90; after, calibMax - 10 (wheel 1: 56).
         assert!(pc.set_required(1, Motor::Steer, 60.0).is_ok());
         pc.calibrate().unwrap();
@@ -595,13 +601,13 @@ mod tests {
         );
         assert_eq!(
             pc.demand(1, Motor::Steer),
-            60.0,
+            Some(60.0),
             "a refused demand is not recorded"
         );
         pc.note_write(6, 27, 12.5);
         assert_eq!(
             pc.demand(4, Motor::Lift),
-            12.5,
+            Some(12.5),
             "TWO on controller 6 is wheel 4"
         );
         assert!(matches!(

@@ -11,8 +11,9 @@
 //! With `--json` every printed thing is one JSON object per line, each with
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
-//! `updates`, `rate`, `wheels` with required, actual and calibrated per motor,
-//! `master_exception`).
+//! `updates`, `rate`, `wheels` with required (null: none sent this session), actual and
+//! calibrated per motor and the wheel's exceptions in words (null: none),
+//! `master_exception` and `master`, the text view's master line).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -20,7 +21,7 @@ use std::time::{Duration, Instant};
 
 use shared::regs::id;
 
-use super::live::{view_lines, Poller, Snapshot};
+use super::live::{master_line, view_lines, wheel_exceptions, Poller, Snapshot};
 use super::pc::{device_of, Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
 use crate::error::HostError;
@@ -130,6 +131,13 @@ pub fn run<P: Port>(
             plan.lines.len()
         )?;
     }
+    for note in script::notes(&plan.lines) {
+        if output.json {
+            writeln!(output.out, "{}", event().str("note", &note).finish())?;
+        } else {
+            writeln!(output.out, "note: {note}")?;
+        }
+    }
     for line in &plan.lines {
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
@@ -185,20 +193,25 @@ fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f
                 "false"
             };
             json::Object::new()
-                .num("required", line.pc.demand(wheel, m))
+                .num("required", line.pc.demand(wheel, m).unwrap_or(f32::NAN))
                 .num("actual", s.value(device, reg).unwrap_or(f32::NAN))
                 .raw("calibrated", calibrated)
                 .finish()
         };
-        json::Object::new()
+        let object = json::Object::new()
             .int("wheel", wheel)
             .raw(
                 "drive",
                 &motor(Motor::Drive, ds, id::REGDS_DRIVE_ACTUALSPEED),
             )
             .raw("steer", &motor(Motor::Steer, ds, id::REGDS_STEER_ACTUALPOS))
-            .raw("lift", &motor(Motor::Lift, ll, lift_reg))
-            .finish()
+            .raw("lift", &motor(Motor::Lift, ll, lift_reg));
+        // The exceptions in words, as the text view's column has them; null for none.
+        match wheel_exceptions(s, wheel).as_str() {
+            "-" => object.raw("exceptions", "null"),
+            words => object.str("exceptions", words),
+        }
+        .finish()
     }));
     let exception = match s.raw(0, id::REGMASTER_EXCEPTIONDATA) {
         Some(raw) => raw.to_string(),
@@ -211,6 +224,7 @@ fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f
         .num("rate", rate as f32)
         .raw("wheels", &wheels)
         .raw("master_exception", &exception)
+        .str("master", &master_line(s))
         .finish()
 }
 
@@ -387,10 +401,15 @@ mod tests {
         assert_eq!(pauses[..12], [Duration::from_millis(50); 12]);
         assert_eq!(pauses[12..], [TICK]);
         let text = String::from_utf8(out).unwrap();
-        assert!(text.starts_with("t.rover: 3 lines; read sets 0, 1, 2 configured\n> drive 1 1000\n> calibrate\n> wait 0.01\n"));
+        assert!(text.starts_with(
+            "t.rover: 3 lines; read sets 0, 1, 2 configured\n\
+             note: line 1 sends a demand, but no line is `reset`: after the port opens every \
+             board is in its boot exception, so nothing will move\n\
+             > drive 1 1000\n> calibrate\n> wait 0.01\n"
+        ));
         // All-zero replies unmap to the bottom of each range.
         assert!(
-            text.contains("\n1           1000    -4000        0.0  -200.0       0.0  -200.0  -\n"),
+            text.contains("\n1           1000    -4000          -  -200.0         -  -200.0  -\n"),
             "{text}"
         );
         assert!(
@@ -424,32 +443,34 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(
-            lines[..4],
+            lines[..6],
             [
                 r#"{"command":"run","script":"t.rover","lines":3}"#,
+                r#"{"command":"run","note":"line 2 sends a demand, but no line is `reset`: after the port opens every board is in its boot exception, so nothing will move"}"#,
+                r#"{"command":"run","note":"line 2 sends a demand, but no line is `calibrate`: the boards' gains stay 0, so nothing will move"}"#,
                 r#"{"command":"run","line":1,"say":"Go"}"#,
                 r#"{"command":"run","line":2,"text":"drive 1 1000"}"#,
                 r#"{"command":"run","line":3,"text":"wait 0.01"}"#,
             ]
         );
-        // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000.
-        // No `calibrate`: the positions are not degrees.
+        // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000,
+        // nothing else was sent (null). No `calibrate`: the positions are not degrees.
         let wheel = |n: u8, drive: &str| {
             format!(
-                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true}},"steer":{{"required":0,"actual":-200,"calibrated":false}},"lift":{{"required":0,"actual":-200,"calibrated":false}}}}"#
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true}},"steer":{{"required":null,"actual":-200,"calibrated":false}},"lift":{{"required":null,"actual":-200,"calibrated":false}},"exceptions":null}}"#
             )
         };
         let wheels: Vec<String> = (1..=6)
-            .map(|n| wheel(n, if n == 1 { "1000" } else { "0" }))
+            .map(|n| wheel(n, if n == 1 { "1000" } else { "null" }))
             .collect();
         assert_eq!(
-            lines[4],
+            lines[6],
             format!(
-                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0}}"#,
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"}}"#,
                 wheels.join(",")
             )
         );
-        assert_eq!(lines.len(), 5, "{text}");
+        assert_eq!(lines.len(), 7, "{text}");
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! |---|---|
 //! | `reset` | resetExceptions(): REG_RESET = 1 to controllers 1..9, then the master (§8.5) |
 //! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses |
-//! | `write DEV REG VALUE` | One register write, as `hostctl write` |
+//! | `write DEV REG VALUE` | One register write, as `hostctl write` (checked against the register's range only, not the library's position limits) |
 //! | `drive W\|all SPEED` | Drive speed demand (ticks/s) on wheel W or all six |
 //! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
 //! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
@@ -93,6 +93,40 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
         });
     }
     Ok(lines)
+}
+
+/// What a script that is valid line by line still leaves out, in words: demands with no
+/// `reset` line (every board is in its boot exception after the port opens, so nothing
+/// acts on a demand until a reset), or with no `calibrate` line (the gains stay 0, so
+/// nothing moves). A demand sent before the reset or the calibration is kept by the board
+/// and acts after it, so only their absence is noted.
+pub fn notes(lines: &[Line]) -> Vec<String> {
+    fn first_word(l: &Line) -> &str {
+        l.text.split_whitespace().next().unwrap_or("")
+    }
+    let Some(demand) = lines
+        .iter()
+        .find(|l| matches!(first_word(l), "drive" | "steer" | "turn" | "lift"))
+    else {
+        return Vec::new();
+    };
+    let has = |word: &str| lines.iter().any(|l| first_word(l) == word);
+    let mut notes = Vec::new();
+    if !has("reset") {
+        notes.push(format!(
+            "line {} sends a demand, but no line is `reset`: after the port opens every board \
+             is in its boot exception, so nothing will move",
+            demand.number
+        ));
+    }
+    if !has("calibrate") {
+        notes.push(format!(
+            "line {} sends a demand, but no line is `calibrate`: the boards' gains stay 0, so \
+             nothing will move",
+            demand.number
+        ));
+    }
+    notes
 }
 
 /// `raw` without its comment. A `#` inside a word (`#1`, `a#b`) is text, so `say` can
@@ -259,6 +293,25 @@ mod tests {
     }
 
     #[test]
+    fn a_script_that_cannot_move_anything_is_noted() {
+        let notes = |src: &str| notes(&parse("s", src).unwrap());
+        assert_eq!(
+            notes("say go\ndrive all 1000\nwait 2"),
+            [
+                "line 2 sends a demand, but no line is `reset`: after the port opens every board \
+                 is in its boot exception, so nothing will move",
+                "line 2 sends a demand, but no line is `calibrate`: the boards' gains stay 0, so \
+                 nothing will move",
+            ]
+        );
+        assert_eq!(notes("reset\nturn 10").len(), 1);
+        // A demand before the reset and the calibration is kept and acts after them.
+        assert!(notes("drive 1 100\ncalibrate\nreset\nwait 1").is_empty());
+        // No demand, nothing to note.
+        assert!(notes("calibrate\nwait 1").is_empty());
+    }
+
+    #[test]
     fn a_script_becomes_frames_in_order() {
         let lines = parse(
             "s",
@@ -293,8 +346,8 @@ mod tests {
             }]
         );
         assert_eq!(lines[5].actions, [Action::Say("done".into())]);
-        assert_eq!(lines[5].pc.demand(1, Motor::Lift), 20.0);
-        assert_eq!(lines[5].pc.demand(5, Motor::Steer), -40.0);
+        assert_eq!(lines[5].pc.demand(1, Motor::Lift), Some(20.0));
+        assert_eq!(lines[5].pc.demand(5, Motor::Steer), Some(-40.0));
     }
 
     #[test]
