@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up the machine and runs every check: formatting, clippy (host and firmware), the
-# firmware builds, host unit/property tests, emulator tests of the real images, and the
-# size report against memory.x. `.ci/run` calls exactly this.
+# firmware builds, host unit/property tests, emulator tests of the real images, the main
+# job (scripts/demo.sh), and the size report against memory.x. `.ci/run` calls exactly
+# this.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -28,6 +29,10 @@ cargo +nightly clippy "${avr[@]}" -p master -p slave -p firmware-examples -p dri
 
 step "tests (host logic and emulator)"
 cargo test "${host_pkgs[@]}"
+
+step "the main job (scripts/demo.sh: the twin driven by hostctl), last lines"
+# The README's first command, end to end, so it cannot break unseen.
+scripts/demo.sh | tail -n 20
 
 step "size report"
 scripts/size-report.sh
