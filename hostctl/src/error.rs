@@ -214,7 +214,7 @@ pub enum HostError {
     NoPort,
 
     /// The serial device could not be opened.
-    #[error("cannot open {path}: {source}; is the rover/twin running? is {path} right?")]
+    #[error("cannot open {path}: {source}; {}", open_hint(path, source))]
     Open {
         /// The path given.
         path: String,
@@ -287,4 +287,17 @@ pub enum HostError {
         /// What was wrong.
         source: DecodeError,
     },
+}
+
+/// The next step after a failed open. A port another program holds (its lock, or
+/// TIOCEXCL's EBUSY, both reported as `NoDevice` on POSIX) is not a missing rover.
+fn open_hint(path: &str, source: &serialport::Error) -> String {
+    if source.kind() == serialport::ErrorKind::NoDevice {
+        format!(
+            "{path} is in use by another program (another hostctl, a terminal such as \
+             screen or minicom); close it first, then retry"
+        )
+    } else {
+        format!("is the rover/twin running? is {path} right?")
+    }
 }
