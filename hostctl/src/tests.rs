@@ -3,6 +3,7 @@
 
 use clap::Parser;
 
+use crate::error::MasterSays;
 use crate::fake::FakePort;
 use crate::link::Link;
 use crate::{run, Cli, HostError, Style};
@@ -245,14 +246,82 @@ fn write_error_code_reply_is_put_in_words() {
     ));
 }
 
+/// The probe after a timeout: REGMASTER_LASTERROR and ERRORCOUNT through the scratch set.
+const PROBE: [&str; 2] = ["05 04 07 0c 0d", "03 03 07"];
+
 #[test]
 fn write_without_reply_times_out() {
+    // Nothing answers, not even the master's error registers: the line or the master is
+    // blamed, not the device.
     let o = hostctl::<&[u8]>("write 2 DRIVE_REQSPEED 0", &[]);
-    assert_eq!(o.port.frames_hex(), ["06 22 01 09 ff 7f"]);
+    assert_eq!(o.port.frames_hex(), ["06 22 01 09 ff 7f", PROBE[0]]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 2 did not answer within 1 s (0 of 1 reply bytes); check the device number, \
-         reset the rover, or restart the twin"
+        "device 2 did not answer within 1 s (0 of 1 reply bytes), and neither did the master \
+         when asked for its error registers: the master or the serial line is not answering, \
+         which is no fault of device 2 (while the remote control has the link, the master \
+         ignores the PC); check the cable, turn the remote control off, reset the rover, or \
+         restart the twin"
+    );
+    // The probe waits briefly: a drain for stray bytes, then 300 ms for its reply.
+    assert_eq!(
+        o.port.timeouts,
+        [
+            crate::link::REPLY_TIMEOUT,
+            crate::link::DRAIN_TIMEOUT,
+            crate::link::PROBE_TIMEOUT
+        ]
+    );
+}
+
+#[test]
+fn a_timeout_names_the_cause_the_master_reports() {
+    let err = |args: &str, replies: &[&[u8]]| {
+        let o = hostctl(args, replies);
+        let frames = o.port.frames_hex();
+        assert_eq!(frames[frames.len() - 2..], PROBE, "{args}");
+        assert!(o.out.is_empty());
+        o.result.unwrap_err().to_string()
+    };
+    // The write frame lost a byte on the way: the master dropped it as truncated (code 8).
+    assert_eq!(
+        err(
+            "write 2 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x08, 0x01, 0x00]]
+        ),
+        "device 2 did not answer within 1 s (0 of 1 reply bytes); the master reports: frame \
+         incomplete: bytes stopped arriving (code 8, 1 link error(s) since boot): a byte was \
+         lost on the serial line; retry, and check the cable if it keeps happening"
+    );
+    // A controller off the bus (code 12).
+    assert_eq!(
+        err(
+            "write 4 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x0c, 0x03, 0x00]]
+        ),
+        "device 4 did not answer within 1 s (0 of 1 reply bytes); the master reports: a slave \
+         did not answer on the I2C bus (code 12, 3 link error(s) since boot): controller 4 is \
+         not answering the master on the I2C bus; check that it is fitted and powered (on the \
+         twin: `twin inject restore 4`), then reset the rover"
+    );
+    // No link error: the device is the one to check.
+    assert_eq!(
+        err(
+            "write 2 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x00, 0x00, 0x00]]
+        ),
+        "device 2 did not answer within 1 s (0 of 1 reply bytes), and the master reports no \
+         link error; check the device number, reset the rover, or restart the twin"
+    );
+    // The master's own reply cut short, then nothing wrong on its side: lost on the way back.
+    assert_eq!(
+        err(
+            "read 0 11",
+            &[&[0x01][..], &[0x01], &[0x02], &[0x00, 0x00, 0x00]]
+        ),
+        "the master did not answer within 1 s (1 of 2 reply bytes) but answers now and \
+         reports no link error, so its reply was lost on the serial line; retry, and check the \
+         cable if it keeps happening"
     );
 }
 
@@ -345,7 +414,8 @@ fn read_with_a_short_reply_times_out() {
         Err(HostError::Timeout {
             device: 1,
             expected: 2,
-            got: 1
+            got: 1,
+            master: MasterSays::Silent,
         })
     ));
 }
@@ -645,13 +715,14 @@ fn watch_json_gives_one_line_per_device_per_round() {
 fn watch_stops_at_the_first_failed_read() {
     let replies: [&[u8]; 2] = [&[0x01], &[0x01]];
     let o = hostctl("watch --readset 4 --device 5 --count 3 TIMER", &replies);
-    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04"]);
+    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04", PROBE[0]]);
     assert!(matches!(
         o.result,
         Err(HostError::Timeout {
             device: 5,
             expected: 2,
-            got: 1
+            got: 1,
+            master: MasterSays::Silent,
         })
     ));
     assert!(o.out.is_empty());
