@@ -2,6 +2,7 @@
 
 use std::io;
 
+use shared::master::LinkError;
 use shared::protocol::{DecodeError, EncodeError};
 
 /// One `hostctl` failure. Every message names what was wrong and how to fix
@@ -214,7 +215,7 @@ pub enum HostError {
     NoPort,
 
     /// The serial device could not be opened.
-    #[error("cannot open {path}: {source}; is the rover/twin running? is {path} right?")]
+    #[error("cannot open {path}: {source}; {}", open_hint(path, source))]
     Open {
         /// The path given.
         path: String,
@@ -236,7 +237,7 @@ pub enum HostError {
     Io(#[from] io::Error),
 
     /// The reply did not arrive in time.
-    #[error("device {device} did not answer within 1 s ({got} of {expected} reply bytes); check the device number, reset the rover, or restart the twin")]
+    #[error("{}", timeout_words(*device, *expected, *got, *master))]
     Timeout {
         /// The device addressed.
         device: u8,
@@ -244,6 +245,8 @@ pub enum HostError {
         expected: usize,
         /// Bytes received.
         got: usize,
+        /// What the master said when asked for its last link error afterwards.
+        master: MasterSays,
     },
 
     /// The master reported a failed write.
@@ -287,4 +290,109 @@ pub enum HostError {
         /// What was wrong.
         source: DecodeError,
     },
+}
+
+/// The master's answer, after a timeout, to a read of its link-error registers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MasterSays {
+    /// It did not answer either.
+    Silent,
+    /// REGMASTER_LASTERROR (0: none since boot) and REGMASTER_ERRORCOUNT.
+    Answered {
+        /// The last link error's code.
+        code: u8,
+        /// Link errors since boot.
+        count: u16,
+    },
+}
+
+/// A timeout in words: the cause the master names, if it names one, else who did not
+/// answer; then what to do.
+fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) -> String {
+    let late = format!("within 1 s ({got} of {expected} reply bytes)");
+    let (code, count) = match master {
+        MasterSays::Silent if device == 0 => {
+            return format!(
+                "the master did not answer {late}, nor a read of its error registers: the \
+                 master or the serial line is not answering (while the remote control has the \
+                 link, the master ignores the PC); check the cable, turn the remote control \
+                 off, reset the rover, or restart the twin"
+            )
+        }
+        MasterSays::Silent => {
+            return format!(
+                "device {device} did not answer {late}, and neither did the master when asked \
+                 for its error registers: the master or the serial line is not answering, \
+                 which is no fault of device {device} (while the remote control has the link, \
+                 the master ignores the PC); check the cable, turn the remote control off, \
+                 reset the rover, or restart the twin"
+            )
+        }
+        MasterSays::Answered { code, count } => (code, count),
+    };
+    let who = if device == 0 {
+        "the master".to_owned()
+    } else {
+        format!("device {device}")
+    };
+    let Some(error) = LinkError::from_code(code) else {
+        return if device == 0 {
+            // It answers now and saw nothing wrong: the reply was lost on the way back.
+            format!(
+                "the master did not answer {late} but answers now and reports no link error, \
+                 so its reply was lost on the serial line; retry, and check the cable if it \
+                 keeps happening"
+            )
+        } else {
+            format!(
+                "device {device} did not answer {late}, and the master reports no link error; \
+                 check the device number, reset the rover, or restart the twin"
+            )
+        };
+    };
+    let advice = match error {
+        LinkError::Truncated => {
+            "a byte was lost on the serial line; retry, and check the cable if it keeps happening"
+                .to_owned()
+        }
+        LinkError::Framing | LinkError::Overrun => {
+            "the serial line damaged a byte; retry, and check the cable and the baud rate \
+             (115200 8N1) if it keeps happening"
+                .to_owned()
+        }
+        LinkError::NoAnswer if device != 0 => format!(
+            "controller {device} is not answering the master on the I2C bus; check that it is \
+             fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
+             rover"
+        ),
+        LinkError::NoAnswer => {
+            "a controller is not answering the master on the I2C bus; reset the rover".to_owned()
+        }
+        LinkError::EmptyReadSet => {
+            "the read set was empty, so the master had nothing to send: it has rebooted since \
+             the set was configured (a reset, or its watchdog); run the command again"
+                .to_owned()
+        }
+        _ => "the frame reached the master damaged; retry, and reset the rover or restart the \
+              twin if it keeps happening"
+            .to_owned(),
+    };
+    format!(
+        "{who} did not answer {late}; the master reports: {} (code {code}, {count} link \
+         error(s) since boot): {advice}",
+        error.describe()
+    )
+}
+
+/// The next step after a failed open. A port another program holds (its lock, or
+/// TIOCEXCL's EBUSY, both reported as `NoDevice` on POSIX) is not a missing rover.
+fn open_hint(path: &str, source: &serialport::Error) -> String {
+    if source.kind() == serialport::ErrorKind::NoDevice {
+        format!(
+            "{path} is in use by another program (another hostctl, a terminal such as \
+             screen or minicom); close it first, then retry"
+        )
+    } else {
+        format!("is the rover/twin running? is {path} right?")
+    }
 }

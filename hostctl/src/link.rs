@@ -1,14 +1,28 @@
-//! Request/response over a [`Port`]: send one frame, read its exact reply.
+//! Request/response over a [`Port`]: send one frame, read its exact reply. A reply that
+//! does not come is looked into by asking the master for its last link error, so the
+//! message can name the cause instead of blaming the addressed device.
 
 use std::io;
 use std::time::Duration;
 
+use shared::protocol;
+use shared::regs::id;
+
 use crate::banner::{self, BannerFailure};
-use crate::error::HostError;
+use crate::cmd::read::SCRATCH_SET;
+use crate::error::{HostError, MasterSays};
 use crate::port::{Port, SerialPort};
 
 /// How long a reply may take (reference §4.7: 1 s, no retries).
 pub const REPLY_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// How long each reply of the probe that follows a timeout may take: the master answers a
+/// read of its own registers in a few ms, so a short wait keeps the failure quick.
+pub const PROBE_TIMEOUT: Duration = Duration::from_millis(300);
+
+/// How long to wait for stray bytes of a late reply before the probe, so they are not
+/// taken for its answer.
+pub const DRAIN_TIMEOUT: Duration = Duration::from_millis(50);
 
 /// How long to wait after `Ready` before the first frame, so the slaves the
 /// master has just hard-reset are back on the bus (reference §4.1, §13).
@@ -74,9 +88,29 @@ impl<P: Port> Link<P> {
         frame: &[u8],
         reply_len: usize,
     ) -> Result<Vec<u8>, HostError> {
+        let (reply, got) = self.exchange(frame, reply_len, REPLY_TIMEOUT)?;
+        if got < reply_len {
+            return Err(HostError::Timeout {
+                device,
+                expected: reply_len,
+                got,
+                master: self.master_says(),
+            });
+        }
+        Ok(reply)
+    }
+
+    /// Sends `frame` and reads up to `reply_len` bytes, each read waiting at most
+    /// `timeout`; returns the buffer and how many bytes came.
+    fn exchange(
+        &mut self,
+        frame: &[u8],
+        reply_len: usize,
+        timeout: Duration,
+    ) -> Result<(Vec<u8>, usize), HostError> {
         self.port.write_all(frame)?;
         self.port.flush()?;
-        self.port.set_timeout(REPLY_TIMEOUT)?;
+        self.port.set_timeout(timeout)?;
         let mut reply = vec![0u8; reply_len];
         let mut got = 0;
         while got < reply_len {
@@ -88,14 +122,46 @@ impl<P: Port> Link<P> {
                 Err(e) => return Err(HostError::Io(e)),
             }
         }
-        if got < reply_len {
-            return Err(HostError::Timeout {
-                device,
-                expected: reply_len,
-                got,
-            });
+        Ok((reply, got))
+    }
+
+    /// After a timeout: the master's REGMASTER_LASTERROR and REGMASTER_ERRORCOUNT, read
+    /// through the scratch set with short timeouts, or [`MasterSays::Silent`]. The failed
+    /// command ends here, so overwriting the scratch set loses nothing.
+    fn master_says(&mut self) -> MasterSays {
+        self.drain();
+        let ids = [id::REGMASTER_LASTERROR, id::REGMASTER_ERRORCOUNT];
+        let mut set = heapless::Vec::<u8, { protocol::MAX_FRAME }>::new();
+        if protocol::encode_set_read_set(0, SCRATCH_SET, &ids, &mut set).is_err() {
+            return MasterSays::Silent;
         }
-        Ok(reply)
+        match self.exchange(&set, 1, PROBE_TIMEOUT) {
+            Ok((reply, 1)) if usize::from(reply[0]) == ids.len() => {}
+            _ => return MasterSays::Silent,
+        }
+        // LASTERROR is one byte, ERRORCOUNT two (LSB first).
+        let read = protocol::encode_read(0, SCRATCH_SET);
+        match self.exchange(&read, 3, PROBE_TIMEOUT) {
+            Ok((reply, 3)) => MasterSays::Answered {
+                code: reply[0],
+                count: u16::from_le_bytes([reply[1], reply[2]]),
+            },
+            _ => MasterSays::Silent,
+        }
+    }
+
+    /// Reads and drops whatever arrives within [`DRAIN_TIMEOUT`] (at most 1 KiB, so a line
+    /// that never falls silent cannot hold the failure up).
+    fn drain(&mut self) {
+        if self.port.set_timeout(DRAIN_TIMEOUT).is_err() {
+            return;
+        }
+        let mut sink = [0u8; 64];
+        for _ in 0..16 {
+            if !matches!(self.port.read(&mut sink), Ok(n) if n > 0) {
+                break;
+            }
+        }
     }
 }
 
@@ -121,6 +187,7 @@ mod tests {
                 device: 4,
                 expected: 2,
                 got: 1,
+                master: MasterSays::Silent,
             }) => {}
             other => panic!("unexpected {other:?}"),
         }

@@ -3,6 +3,7 @@
 
 use clap::Parser;
 
+use crate::error::MasterSays;
 use crate::fake::FakePort;
 use crate::link::Link;
 use crate::{run, Cli, HostError, Style};
@@ -245,14 +246,82 @@ fn write_error_code_reply_is_put_in_words() {
     ));
 }
 
+/// The probe after a timeout: REGMASTER_LASTERROR and ERRORCOUNT through the scratch set.
+const PROBE: [&str; 2] = ["05 04 07 0c 0d", "03 03 07"];
+
 #[test]
 fn write_without_reply_times_out() {
+    // Nothing answers, not even the master's error registers: the line or the master is
+    // blamed, not the device.
     let o = hostctl::<&[u8]>("write 2 DRIVE_REQSPEED 0", &[]);
-    assert_eq!(o.port.frames_hex(), ["06 22 01 09 ff 7f"]);
+    assert_eq!(o.port.frames_hex(), ["06 22 01 09 ff 7f", PROBE[0]]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 2 did not answer within 1 s (0 of 1 reply bytes); check the device number, \
-         reset the rover, or restart the twin"
+        "device 2 did not answer within 1 s (0 of 1 reply bytes), and neither did the master \
+         when asked for its error registers: the master or the serial line is not answering, \
+         which is no fault of device 2 (while the remote control has the link, the master \
+         ignores the PC); check the cable, turn the remote control off, reset the rover, or \
+         restart the twin"
+    );
+    // The probe waits briefly: a drain for stray bytes, then 300 ms for its reply.
+    assert_eq!(
+        o.port.timeouts,
+        [
+            crate::link::REPLY_TIMEOUT,
+            crate::link::DRAIN_TIMEOUT,
+            crate::link::PROBE_TIMEOUT
+        ]
+    );
+}
+
+#[test]
+fn a_timeout_names_the_cause_the_master_reports() {
+    let err = |args: &str, replies: &[&[u8]]| {
+        let o = hostctl(args, replies);
+        let frames = o.port.frames_hex();
+        assert_eq!(frames[frames.len() - 2..], PROBE, "{args}");
+        assert!(o.out.is_empty());
+        o.result.unwrap_err().to_string()
+    };
+    // The write frame lost a byte on the way: the master dropped it as truncated (code 8).
+    assert_eq!(
+        err(
+            "write 2 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x08, 0x01, 0x00]]
+        ),
+        "device 2 did not answer within 1 s (0 of 1 reply bytes); the master reports: frame \
+         incomplete: bytes stopped arriving (code 8, 1 link error(s) since boot): a byte was \
+         lost on the serial line; retry, and check the cable if it keeps happening"
+    );
+    // A controller off the bus (code 12).
+    assert_eq!(
+        err(
+            "write 4 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x0c, 0x03, 0x00]]
+        ),
+        "device 4 did not answer within 1 s (0 of 1 reply bytes); the master reports: a slave \
+         did not answer on the I2C bus (code 12, 3 link error(s) since boot): controller 4 is \
+         not answering the master on the I2C bus; check that it is fitted and powered (on the \
+         twin: `twin inject restore 4`), then reset the rover"
+    );
+    // No link error: the device is the one to check.
+    assert_eq!(
+        err(
+            "write 2 DRIVE_REQSPEED 0",
+            &[&[], &[0x02], &[0x00, 0x00, 0x00]]
+        ),
+        "device 2 did not answer within 1 s (0 of 1 reply bytes), and the master reports no \
+         link error; check the device number, reset the rover, or restart the twin"
+    );
+    // The master's own reply cut short, then nothing wrong on its side: lost on the way back.
+    assert_eq!(
+        err(
+            "read 0 11",
+            &[&[0x01][..], &[0x01], &[0x02], &[0x00, 0x00, 0x00]]
+        ),
+        "the master did not answer within 1 s (1 of 2 reply bytes) but answers now and \
+         reports no link error, so its reply was lost on the serial line; retry, and check the \
+         cable if it keeps happening"
     );
 }
 
@@ -291,6 +360,43 @@ fn read_sizes_the_reply_from_the_device_table() {
 }
 
 #[test]
+fn a_temperature_the_master_has_not_read_is_no_reading() {
+    // The scratch set holds the temperature and REGMASTER_TEMPSREAD (id 14); bit 0 (the
+    // ambient sensor) clear: the 0.0 °C it holds is not shown as a temperature.
+    let unread: [&[u8]; 2] = [&[0x02], &[0xaa, 0x2a, 0x00, 0x00]];
+    let o = hostctl("read 0 tempambient", &unread);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["05 04 07 01 0e", "03 03 07"]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_TEMPAMBIENT: no reading (raw 0x2aaa): not read yet: the master \
+         reads one sensor every 2 s from 5 s after boot, and opening the port rebooted it; or \
+         the sensor is missing\n"
+    );
+    let o = hostctl("--json read 0 tempambient", &unread);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":1,\
+         \"register\":\"REGMASTER_TEMPAMBIENT\",\"raw\":10922,\"value\":null,\
+         \"unit\":\"degC\",\"read\":false}\n"
+    );
+    // Controller 9's sensor (bit 9) read: its value, as read.
+    let read: [&[u8]; 2] = [&[0x02], &[0x87, 0x58, 0x00, 0x02]];
+    let o = hostctl("read 0 TEMP9", &read);
+    assert_eq!(o.port.frames_hex(), ["05 04 07 0a 0e", "03 03 07"]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_TEMP9 = 21.498 degC (raw 0x5887)\n"
+    );
+    let o = hostctl("--json read 0 TEMP9", &read);
+    assert!(
+        o.out.ends_with(",\"unit\":\"degC\",\"read\":true}\n"),
+        "{}",
+        o.out
+    );
+}
+
+#[test]
 fn read_stops_when_the_set_is_not_accepted() {
     let o = hostctl("read 1 TIMER", &[[0x86]]);
     assert_eq!(o.port.frames_hex(), ["04 14 07 01"]);
@@ -308,7 +414,8 @@ fn read_with_a_short_reply_times_out() {
         Err(HostError::Timeout {
             device: 1,
             expected: 2,
-            got: 1
+            got: 1,
+            master: MasterSays::Silent,
         })
     ));
 }
@@ -404,7 +511,16 @@ fn watch_configures_then_polls_with_a_table() {
 
 #[test]
 fn watch_table_redraws_in_place_on_a_terminal() {
-    let replies: [&[u8]; 3] = [&[0x01], &[0x87, 0x58], &[0xaa, 0x2a]];
+    // Set 3, then REGMASTER_TEMPSREAD in set 7; each round reads both: the ambient sensor
+    // read in round 1, a sensor not read since boot (0.0 °C, raw 0x2aaa) in round 2.
+    let replies: [&[u8]; 6] = [
+        &[0x01],
+        &[0x01],
+        &[0x87, 0x58],
+        &[0x01, 0x00],
+        &[0xaa, 0x2a],
+        &[0x00, 0x00],
+    ];
     let o = hostctl_with(
         "watch --readset 3 --count 2 --interval-ms 0 TEMPAMBIENT",
         &replies,
@@ -412,7 +528,17 @@ fn watch_table_redraws_in_place_on_a_terminal() {
         true,
     );
     o.result.unwrap();
-    assert_eq!(o.port.frames_hex(), ["04 04 03 01", "03 03 03", "03 03 03"]);
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "04 04 03 01",
+            "04 04 07 0e",
+            "03 03 03",
+            "03 03 07",
+            "03 03 03",
+            "03 03 07"
+        ]
+    );
     assert_eq!(
         o.out,
         "read set 3, round 1\x1b[K\n\
@@ -424,7 +550,9 @@ fn watch_table_redraws_in_place_on_a_terminal() {
          read set 3, round 2\x1b[K\n\
          dev  TEMPAMBIENT\x1b[K\n\
          \x20           degC\x1b[K\n\
-         0         -0.001\x1b[K\n\
+         0              -\x1b[K\n\
+         - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
+         boot, and opening the port rebooted it; or the sensor is missing\x1b[K\n\
          \x1b[J"
     );
 }
@@ -497,22 +625,63 @@ fn watch_standard_sets_1_and_2_match_the_library() {
     reply[1] = 0x58;
     reply[20] = 0x01;
     reply[21] = 0x14;
-    let o = hostctl("--json watch --readset 2 --count 1", &[vec![0x0b], reply]);
+    // The library's set 2 unchanged, then REGMASTER_TEMPSREAD through set 7: only the
+    // ambient sensor has been read.
+    let replies = [vec![0x0b], vec![0x01], reply.clone(), vec![0x01, 0x00]];
+    let o = hostctl("--json watch --readset 2 --count 1", &replies);
     o.result.unwrap();
     assert_eq!(
         o.port.frames_hex(),
-        ["0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b", "03 03 02"]
+        [
+            "0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b",
+            "04 04 07 0e",
+            "03 03 02",
+            "03 03 07"
+        ]
     );
     let line = o.out.lines().next().unwrap();
     assert!(line.starts_with(
         "{\"round\":1,\"set\":2,\"device\":0,\"board\":\"MASTER\",\"values\":[\
-         {\"id\":1,\"register\":\"REGMASTER_TEMPAMBIENT\",\"raw\":22663,\"value\":21.498459,\"unit\":\"degC\"},\
-         {\"id\":2,\"register\":\"REGMASTER_TEMP1\",\"raw\":0,\"value\":-20,\"unit\":\"degC\"},"
+         {\"id\":1,\"register\":\"REGMASTER_TEMPAMBIENT\",\"raw\":22663,\"value\":21.498459,\"unit\":\"degC\",\"read\":true},\
+         {\"id\":2,\"register\":\"REGMASTER_TEMP1\",\"raw\":0,\"value\":null,\"unit\":\"degC\",\"read\":false},"
     ), "{line}");
     assert!(line.ends_with(
         "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\"}]}"
     ), "{line}");
     assert_eq!(o.out.lines().count(), 1);
+
+    // As a table: every sensor but the ambient one unread, shown as "-" with the legend.
+    let o = hostctl("watch --readset 2 --count 1", &replies);
+    o.result.unwrap();
+    assert_eq!(
+        o.out,
+        "read set 2, round 1\n\
+         dev  TEMPAMBIENT  TEMP1  TEMP2  TEMP3  TEMP4  TEMP5  TEMP6  TEMP7  TEMP8  TEMP9  \
+         EXCEPTIONDATA\n\
+         \x20           degC   degC   degC   degC   degC   degC   degC   degC   degC   degC\n\
+         0         21.498      -      -      -      -      -      -      -      -      -  \
+         \x20        5121\n\
+         - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
+         boot, and opening the port rebooted it; or the sensor is missing\n"
+    );
+}
+
+#[test]
+fn watch_of_set_7_reads_the_sensors_read_through_set_6() {
+    let replies: [&[u8]; 4] = [&[0x01], &[0x01], &[0x87, 0x58], &[0x03, 0x00]];
+    let o = hostctl("watch --readset 7 --count 1 TEMP1", &replies);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        ["04 04 07 02", "04 04 06 0e", "03 03 07", "03 03 06"]
+    );
+    assert_eq!(
+        o.out,
+        "read set 7, round 1\n\
+         dev   TEMP1\n\
+         \x20      degC\n\
+         0    21.498\n"
+    );
 }
 
 #[test]
@@ -546,13 +715,14 @@ fn watch_json_gives_one_line_per_device_per_round() {
 fn watch_stops_at_the_first_failed_read() {
     let replies: [&[u8]; 2] = [&[0x01], &[0x01]];
     let o = hostctl("watch --readset 4 --device 5 --count 3 TIMER", &replies);
-    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04"]);
+    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04", PROBE[0]]);
     assert!(matches!(
         o.result,
         Err(HostError::Timeout {
             device: 5,
             expected: 2,
-            got: 1
+            got: 1,
+            master: MasterSays::Silent,
         })
     ));
     assert!(o.out.is_empty());

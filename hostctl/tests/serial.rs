@@ -96,3 +96,22 @@ fn a_missing_device_says_what_to_check() {
         "{err}"
     );
 }
+
+#[test]
+fn a_port_another_program_holds_says_to_close_it() {
+    let (_master, _slave, path) = raw_pty();
+    // Another program (here a second handle) has the port open and locked.
+    let _held = serialport::new(&path, 115_200).open().unwrap();
+    let err = link::open_serial(&path, Duration::ZERO)
+        .err()
+        .unwrap()
+        .to_string();
+    assert_eq!(
+        err,
+        format!(
+            "cannot open {path}: Unable to acquire exclusive lock on serial port; {path} is in \
+             use by another program (another hostctl, a terminal such as screen or minicom); \
+             close it first, then retry"
+        )
+    );
+}

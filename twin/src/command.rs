@@ -101,6 +101,9 @@ pub enum CommandError {
         /// The text given.
         given: String,
     },
+    /// A command that would change nothing, such as `drop-serial 0`.
+    #[error("{0}")]
+    Nothing(&'static str),
     /// A number was expected.
     #[error("`{given}` is not {what}")]
     BadNumber {
@@ -177,6 +180,17 @@ fn non_negative(word: &str, what: &'static str, name: &'static str) -> Result<f6
     Ok(v.abs())
 }
 
+/// Bytes for `drop-serial` to lose: 0 would lose none, so it is refused rather than
+/// reported as a fault that was set.
+fn byte_count(word: &str) -> Result<u64, CommandError> {
+    match number(word, "a byte count")? {
+        0 => Err(CommandError::Nothing(
+            "drop-serial 0 would lose no byte, so nothing was changed; give N of 1 or more",
+        )),
+        n => Ok(n),
+    }
+}
+
 impl Command {
     /// Parses one command line (words separated by blanks).
     pub fn parse(line: &str) -> Result<Command, CommandError> {
@@ -225,11 +239,11 @@ impl Command {
             }
             ("temp", _) => Err(CommandError::Usage(TEMP)),
             ("drop-serial", [n]) => Ok(Command::DropSerial {
-                n: number(n, "a byte count")?,
+                n: byte_count(n)?,
                 direction: Direction::ToMaster,
             }),
             ("drop-serial", [n, dir]) => Ok(Command::DropSerial {
-                n: number(n, "a byte count")?,
+                n: byte_count(n)?,
                 direction: Direction::parse(dir).ok_or(CommandError::Usage(DROP))?,
             }),
             ("drop-serial", _) => Err(CommandError::Usage(DROP)),
@@ -255,13 +269,27 @@ impl Command {
                 let state = if on { "stalled" } else { "free" };
                 format!("wheel {wheel} {} {state}", axis.name())
             }
+            // A cut or restore that finds the controller already so says it changed nothing.
             Command::Cut(n) => {
+                let was_cut = rover.cut_off().contains(&n);
                 rover.cut(n)?;
-                format!("controller {n} cut off the bus")
+                if was_cut {
+                    format!("controller {n} was already cut off the bus; nothing changed")
+                } else {
+                    format!("controller {n} cut off the bus")
+                }
             }
             Command::Restore(n) => {
+                let was_cut = rover.cut_off().contains(&n);
                 rover.restore(n)?;
-                format!("controller {n} back on the bus")
+                if was_cut {
+                    format!("controller {n} back on the bus")
+                } else {
+                    format!(
+                        "controller {n} was not cut off, so it is on the bus; nothing changed \
+                         (`cut {n}` takes it off)"
+                    )
+                }
             }
             Command::Spike {
                 wheel,
@@ -273,9 +301,18 @@ impl Command {
                 format!("wheel {wheel} {}: +{amps} A for {ms} ms", axis.name())
             }
             Command::Sensor { index, present } => {
+                let was_present = !rover.removed_sensors().contains(&index);
                 rover.set_sensor_present(index, present)?;
-                let state = if present { "restored" } else { "removed" };
-                format!("sensor {index} {state}")
+                match (was_present, present) {
+                    (true, true) => {
+                        format!("sensor {index} was not removed; nothing changed")
+                    }
+                    (false, false) => {
+                        format!("sensor {index} was already removed; nothing changed")
+                    }
+                    (_, true) => format!("sensor {index} restored"),
+                    (_, false) => format!("sensor {index} removed"),
+                }
             }
             Command::Temp {
                 index,
@@ -432,6 +469,15 @@ mod tests {
             Command::parse("drop-serial 2 sideways"),
             Err(CommandError::Usage(DROP))
         );
+        // Losing no byte is no fault: refused, not reported as set.
+        for line in ["drop-serial 0", "drop-serial 0 to-host"] {
+            assert_eq!(
+                e(line).as_deref(),
+                Some(
+                    "drop-serial 0 would lose no byte, so nothing was changed; give N of 1 or more"
+                )
+            );
+        }
         assert_eq!(Command::parse("rc"), Err(CommandError::Usage(RC)));
         assert_eq!(
             Command::parse("status now"),

@@ -41,6 +41,18 @@ fn a_negative_spike_is_refused_before_any_twin_is_asked() {
 }
 
 #[test]
+fn a_drop_of_no_byte_is_refused_not_reported_as_set() {
+    let control = scratch("drop0");
+    let out = inject(&control, &["drop-serial", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.stdout, b"");
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        "twin: drop-serial 0 would lose no byte, so nothing was changed; give N of 1 or more\n"
+    );
+}
+
+#[test]
 fn a_refusal_by_the_twin_reads_like_one_here() {
     let control = scratch("remote");
     let _ = std::fs::remove_file(&control);

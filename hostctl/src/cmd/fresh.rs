@@ -2,6 +2,7 @@
 //! Uno's DTR reset, reference §4.1), so every controller it reaches is fresh from boot. It
 //! is in its boot exception, where a write is stored but nothing acts on it (§6.4), and on
 //! its boot calibration, where a position is not in degrees (§8.1: −512..512 internally).
+//! The master is fresh too: it has read no temperature sensor yet (REGMASTER_TEMPSREAD).
 //! The notes here say so, rather than let a value or a write pass as more than it is.
 
 use shared::regs::{id, Register};
@@ -24,6 +25,18 @@ pub fn on_calibrated_scale(reg: &Register) -> bool {
 pub const BOOT_CALIBRATION: &str = "note: not degrees: opening the port rebooted the rover, so \
 the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the register's \
 range). Positions are degrees after `calibrate`, in one `hostctl run FILE` script.";
+
+/// The bit of REGMASTER_TEMPSREAD that says whether master register `reg` holds a reading:
+/// `Some` for the temperatures (bit 0 ambient, bit n controller n's sensor), else `None`.
+pub fn sensor_bit(target: Target, reg: &Register) -> Option<u16> {
+    let temps = id::REGMASTER_TEMPAMBIENT..=id::REGMASTER_TEMP9;
+    (target.device == 0 && temps.contains(&reg.id))
+        .then(|| 1 << (reg.id - id::REGMASTER_TEMPAMBIENT))
+}
+
+/// Why a temperature whose REGMASTER_TEMPSREAD bit is clear is no reading (it holds 0.0 °C).
+pub const NOT_READ: &str = "not read yet: the master reads one sensor every 2 s from 5 s \
+after boot, and opening the port rebooted it; or the sensor is missing";
 
 /// Whether the controller `target` is in exception (REG_STATUS bit 0), read through the
 /// scratch read set. `None` for the master, which a write does not leave waiting.

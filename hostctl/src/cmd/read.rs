@@ -1,11 +1,12 @@
 //! `hostctl read DEV REG`: one register through hostctl's scratch read set.
 //!
 //! Read set 7 is reserved for these one-off reads: each `read` replaces its
-//! contents with the one register, then reads it. Do not use set 7 for
+//! contents with the one register, then reads it. A master temperature is read with
+//! REGMASTER_TEMPSREAD beside it, which says whether it is a reading at all. Do not use set 7 for
 //! anything that must survive a `hostctl read`.
 
 use shared::mapping;
-use shared::regs::Register;
+use shared::regs::{id, Register};
 
 use super::{fresh, Frame, SetRead};
 use crate::error::HostError;
@@ -31,7 +32,9 @@ pub struct Args {
 pub struct Plan {
     /// The register.
     pub reg: &'static Register,
-    /// Frame that puts the register alone in the scratch set.
+    /// For a master temperature, its bit in REGMASTER_TEMPSREAD (read second in the set).
+    pub sensor_bit: Option<u16>,
+    /// Frame that puts the register (and REGMASTER_TEMPSREAD) in the scratch set.
     pub set_frame: Frame,
     /// The read of the scratch set.
     pub read: SetRead,
@@ -41,24 +44,38 @@ pub struct Plan {
 pub fn plan(args: &Args) -> Result<Plan, HostError> {
     let target = resolve::device(&args.device)?;
     let reg = resolve::register(target, &args.register)?;
+    let sensor_bit = fresh::sensor_bit(target, reg);
+    let mut regs = vec![reg];
+    if sensor_bit.is_some() {
+        regs.push(resolve::register(
+            target,
+            &id::REGMASTER_TEMPSREAD.to_string(),
+        )?);
+    }
     Ok(Plan {
         reg,
-        set_frame: super::set_frame(target, SCRATCH_SET, &[reg])?,
-        read: SetRead::new(target, SCRATCH_SET, vec![reg])?,
+        sensor_bit,
+        set_frame: super::set_frame(target, SCRATCH_SET, &regs)?,
+        read: SetRead::new(target, SCRATCH_SET, regs)?,
     })
 }
 
 /// Configures the scratch set, reads it and returns the report.
 pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<String, HostError> {
     let target = plan.read.target;
-    super::configure(link, target, SCRATCH_SET, &plan.set_frame, 1)?;
+    let count = plan.read.regs.len();
+    super::configure(link, target, SCRATCH_SET, &plan.set_frame, count)?;
     let raws = plan.read.run(link)?;
     let raw = raws.first().copied().unwrap_or_default();
-    Ok(report(target, plan.reg, raw, json))
+    let read = plan
+        .sensor_bit
+        .map(|bit| raws.get(1).is_some_and(|bits| bits & bit != 0));
+    Ok(report(target, plan.reg, raw, read, json))
 }
 
-/// The value in units and raw; for a position, that it is not degrees (see [`fresh`]).
-fn report(target: Target, reg: &Register, raw: u16, json: bool) -> String {
+/// The value in units and raw; for a position, that it is not degrees; for a temperature
+/// the master has not read, that it is no reading (see [`fresh`]).
+fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bool) -> String {
     let boot_scale = target.device != 0 && fresh::on_calibrated_scale(reg);
     if json {
         let object = json::Object::new()
@@ -67,14 +84,32 @@ fn report(target: Target, reg: &Register, raw: u16, json: bool) -> String {
             .str("board", target.board())
             .int("id", reg.id)
             .str("register", reg.name)
-            .int("raw", raw)
-            .num("value", mapping::unmap(raw, reg))
-            .str("unit", reg.unit);
+            .int("raw", raw);
+        // A temperature not read yet holds 0.0 °C, which is no value.
+        let object = if read == Some(false) {
+            object.raw("value", "null")
+        } else {
+            object.num("value", mapping::unmap(raw, reg))
+        }
+        .str("unit", reg.unit);
+        let object = match read {
+            Some(read) => object.raw("read", if read { "true" } else { "false" }),
+            None => object,
+        };
         return if boot_scale {
             object.raw("boot_calibration", "true").finish()
         } else {
             object.finish()
         };
+    }
+    if read == Some(false) {
+        // 0.0 °C here is no reading: not shown as a temperature.
+        return format!(
+            "device {} {}: no reading (raw 0x{raw:04x}): {}",
+            target.device,
+            reg.name,
+            fresh::NOT_READ
+        );
     }
     let text = format!(
         "device {} {} = {}{} (raw 0x{:0width$x})",

@@ -5,13 +5,18 @@
 //! sets 0, 1 and 2 get the contents the original PC library gives them
 //! (reference §4.3) and any other set is refused. The default devices are
 //! all DS boards for set 0, all LL boards for set 1 and the master otherwise.
+//!
+//! When the master's row holds temperatures, REGMASTER_TEMPSREAD is read beside it through
+//! another set (the watched set keeps the library's contents), so a sensor the master has
+//! not read yet shows as "-", not as 0.0 °C.
 
 use std::time::Duration;
 
 use shared::mapping;
-use shared::regs::{BoardKind, Register};
+use shared::regs::{id, BoardKind, Register};
 
-use super::{Frame, SetRead};
+use super::read::SCRATCH_SET;
+use super::{fresh, Frame, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
@@ -139,6 +144,17 @@ fn default_devices(set: u8) -> Vec<u8> {
         .collect()
 }
 
+/// REGMASTER_TEMPSREAD, read through a set of its own beside the watched one.
+#[derive(Debug)]
+pub struct TempsRead {
+    /// The set it is put in.
+    pub set: u8,
+    /// The configuring frame.
+    pub set_frame: Frame,
+    /// Its read.
+    pub read: SetRead,
+}
+
 /// A checked watch, ready to run.
 #[derive(Debug)]
 pub struct Plan {
@@ -148,6 +164,8 @@ pub struct Plan {
     pub set_frame: Frame,
     /// One read per device, in row order.
     pub reads: Vec<SetRead>,
+    /// The read of REGMASTER_TEMPSREAD, when the master's row holds temperatures.
+    pub temps_read: Option<Box<TempsRead>>,
     /// Rounds to run, or `None` for no limit.
     pub count: Option<u64>,
     /// Pause between rounds.
@@ -179,13 +197,35 @@ pub fn plan(args: &Args) -> Result<Plan, HostError> {
     }
     let first = reads.first().ok_or(HostError::NoStandardSet { set })?;
     let set_frame = super::set_frame(first.target, set, &first.regs)?;
+    let temps_read = temps_read_of(set, &reads)?;
     Ok(Plan {
         set,
         set_frame,
         reads,
+        temps_read,
         count: args.count,
         interval: Duration::from_millis(args.interval_ms),
     })
+}
+
+/// The read of REGMASTER_TEMPSREAD for the master's row, if it holds a temperature: through
+/// the scratch set, or set 6 when set 7 is the one watched (every set is empty after the
+/// port's open, so neither holds anything of the user's).
+fn temps_read_of(set: u8, reads: &[SetRead]) -> Result<Option<Box<TempsRead>>, HostError> {
+    let Some(master) = reads.iter().find(|r| {
+        r.regs
+            .iter()
+            .any(|reg| fresh::sensor_bit(r.target, reg).is_some())
+    }) else {
+        return Ok(None);
+    };
+    let other = if set == SCRATCH_SET { 6 } else { SCRATCH_SET };
+    let reg = resolve::register(master.target, &id::REGMASTER_TEMPSREAD.to_string())?;
+    Ok(Some(Box::new(TempsRead {
+        set: other,
+        set_frame: super::set_frame(master.target, other, &[reg])?,
+        read: SetRead::new(master.target, other, vec![reg])?,
+    })))
 }
 
 /// The standard contents of `set`, looked up on `target`'s table.
@@ -213,6 +253,17 @@ pub struct Row {
     pub target: Target,
     /// Its registers and raw values, in set order.
     pub values: Vec<(&'static Register, u16)>,
+    /// The master's REGMASTER_TEMPSREAD, read beside a row of temperatures.
+    pub temps_read: Option<u16>,
+}
+
+impl Row {
+    /// Whether the register holds a reading: `Some(false)` for a temperature the master has
+    /// not read since boot, `None` where that is not known or does not apply.
+    fn is_reading(&self, reg: &Register) -> Option<bool> {
+        let bit = fresh::sensor_bit(self.target, reg)?;
+        Some(self.temps_read? & bit != 0)
+    }
 }
 
 /// One poll of every device.
@@ -241,6 +292,9 @@ pub fn run<P: Port>(
             first.regs.len(),
         )?;
     }
+    if let Some(t) = &plan.temps_read {
+        super::configure(link, t.read.target, t.set, &t.set_frame, 1)?;
+    }
     let mut number = 0;
     while plan.count.is_none_or(|k| number < k) {
         if number > 0 {
@@ -253,7 +307,14 @@ pub fn run<P: Port>(
             rows.push(Row {
                 target: read.target,
                 values: read.regs.iter().copied().zip(raws).collect(),
+                temps_read: None,
             });
+        }
+        if let Some(t) = &plan.temps_read {
+            let bits = t.read.run(link)?.first().copied();
+            for row in rows.iter_mut().filter(|r| r.target == t.read.target) {
+                row.temps_read = bits;
+            }
         }
         on_round(&Round {
             number,
@@ -284,9 +345,17 @@ pub fn table_lines(round: &Round) -> Vec<String> {
         }
         table.headers = vec![names, units];
     }
+    let mut unread = false;
     for row in &round.rows {
         let mut cells = vec![row.target.device.to_string()];
-        cells.extend(row.values.iter().map(|&(reg, raw)| resolve::show(reg, raw)));
+        cells.extend(row.values.iter().map(|&(reg, raw)| {
+            if row.is_reading(reg) == Some(false) {
+                unread = true;
+                "-".to_owned()
+            } else {
+                resolve::show(reg, raw)
+            }
+        }));
         table.rows.push(cells);
     }
     let mut lines = vec![format!("read set {}, round {}", round.set, round.number)];
@@ -298,6 +367,9 @@ pub fn table_lines(round: &Round) -> Vec<String> {
                 .to_owned(),
         );
     }
+    if unread {
+        lines.push(format!("- no reading: {}", fresh::NOT_READ));
+    }
     lines
 }
 
@@ -308,13 +380,23 @@ pub fn json_lines(round: &Round) -> Vec<String> {
         .iter()
         .map(|row| {
             let values = json::array(row.values.iter().map(|&(reg, raw)| {
-                json::Object::new()
+                let read = row.is_reading(reg);
+                let value = json::Object::new()
                     .int("id", reg.id)
                     .str("register", reg.name)
-                    .int("raw", raw)
-                    .num("value", mapping::unmap(raw, reg))
-                    .str("unit", reg.unit)
-                    .finish()
+                    .int("raw", raw);
+                // A temperature not read yet holds 0.0 °C, which is no value.
+                let value = if read == Some(false) {
+                    value.raw("value", "null")
+                } else {
+                    value.num("value", mapping::unmap(raw, reg))
+                }
+                .str("unit", reg.unit);
+                match read {
+                    Some(read) => value.raw("read", if read { "true" } else { "false" }),
+                    None => value,
+                }
+                .finish()
             }));
             json::Object::new()
                 .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
