@@ -72,8 +72,8 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
             continue;
         }
         let actions = line(&mut pc, text).map_err(|why| {
-            // `#forward` is a word, not a comment: say how to write one.
-            let hint = if text.split_whitespace().any(|w| w.starts_with('#')) {
+            // `#forward` or `1000#fwd` is text, not a comment: say how to write one.
+            let hint = if text.contains('#') {
                 "; a comment is `#` followed by a space"
             } else {
                 ""
@@ -290,6 +290,15 @@ mod tests {
 
     fn refusal(source: &str) -> String {
         parse("demo.rover", source).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_hash_glued_to_a_number_gets_the_comment_hint() {
+        let err = parse("s", "drive all 1000#fwd").unwrap_err().to_string();
+        assert!(
+            err.ends_with("; a comment is `#` followed by a space"),
+            "{err}"
+        );
     }
 
     #[test]
