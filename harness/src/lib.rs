@@ -64,6 +64,6 @@ pub use avr::{firmware_path, Avr, F_CPU};
 pub use error::HarnessError;
 pub use memory::EEPROM_SIZE;
 pub use pin::{uno, Pin};
-pub use pty::{HostEvent, Pty, SerialEnd};
+pub use pty::{Pty, SerialEnd};
 pub use simavr_ffi;
 pub use state::CpuState;

@@ -9,12 +9,14 @@
 //!
 //! A pseudo-terminal has no DTR line, so the Uno's auto-reset when a host opens
 //! the port cannot come from the line itself. Instead the pty watches its path with
-//! inotify: [`Pty::host_event`] reports the first open (a port already open keeps
-//! DTR as it is) and the last close by host programs, and a caller that stands for an Uno resets the chip on open (as the
-//! twin does), and on the last close when the host left HUPCL set
-//! ([`Pty::hangs_up_on_close`]). While no host has the port open, firmware output is
-//! discarded, as bytes sent to a closed USB serial port are, so a host that opens the
-//! port never reads a stale banner.
+//! inotify and follows DTR through the host programs' opens and closes: the first open
+//! raises it, the last close drops it when the host left HUPCL set
+//! ([`Pty::hangs_up_on_close`]) and leaves it up otherwise. [`Pty::take_dtr_reset`]
+//! says when it moved in a way that resets an Uno, and the twin then resets its master.
+//! The modem-control ioctls (TIOCMBIS/TIOCMBIC) fail on a pty, so a program cannot pulse
+//! DTR on an open port here: it closes and reopens it instead. While no host has the port
+//! open, firmware output is discarded, as bytes sent to a closed USB serial port are, so
+//! a host that opens the port never reads a stale banner.
 
 use std::fs::File;
 use std::io::{self, Read, Write};
@@ -46,10 +48,11 @@ pub struct Pty {
     watch: Inotify,
     /// How many host opens of the path are currently open.
     host_opens: u32,
-    /// A host opened the port since [`Pty::host_event`] last said so.
-    opened: bool,
-    /// Whether a host had the port open when [`Pty::host_event`] last looked.
-    was_connected: bool,
+    /// DTR as the hosts left it: raised by the first open, dropped by the last close when
+    /// HUPCL is set, left raised by a close without it.
+    dtr_high: bool,
+    /// DTR moved in a way that resets an Uno since [`Pty::take_dtr_reset`] last said so.
+    dtr_reset: bool,
 }
 
 /// The chip side of a [`Pty`]: where the host's bytes go and where the firmware's come
@@ -70,15 +73,6 @@ impl SerialEnd for Avr {
     fn firmware_output(&mut self) -> Vec<u8> {
         self.uart_take()
     }
-}
-
-/// A change in whether a host program has the port open.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum HostEvent {
-    /// A host program opened the port that no other had open (the Uno would reset now).
-    Opened,
-    /// The last host program closed the port.
-    Closed,
 }
 
 impl Pty {
@@ -113,8 +107,8 @@ impl Pty {
             link: None,
             watch,
             host_opens: 0,
-            opened: false,
-            was_connected: false,
+            dtr_high: false,
+            dtr_reset: false,
         })
     }
 
@@ -131,24 +125,15 @@ impl Pty {
         tcgetattr(&self._device).is_ok_and(|t| t.control_flags.contains(ControlFlags::HUPCL))
     }
 
-    /// Reports the most recent change since the last call: `Opened` if a host opened
-    /// the port while no other had it open (even if it closed it again since), `Closed` if the last host closed it,
-    /// `None` if nothing changed.
-    pub fn host_event(&mut self) -> Option<HostEvent> {
+    /// Whether DTR has moved since the last call in a way that resets an Uno (reference
+    /// §4.1): raised by an open while it was down, or dropped by the last close with HUPCL
+    /// set. A close and an open between two calls make one reset.
+    pub fn take_dtr_reset(&mut self) -> bool {
         self.poll_watch();
-        let closed = self.was_connected && self.host_opens == 0;
-        self.was_connected = self.host_opens > 0;
-        if std::mem::take(&mut self.opened) {
-            Some(HostEvent::Opened)
-        } else if closed {
-            Some(HostEvent::Closed)
-        } else {
-            None
-        }
+        std::mem::take(&mut self.dtr_reset)
     }
 
-    /// Counts the opens and closes inotify has seen; an open is remembered for
-    /// [`Pty::host_event`].
+    /// Counts the opens and closes inotify has seen and follows DTR through them.
     fn poll_watch(&mut self) {
         while let Ok(events) = self.watch.read_events() {
             if events.is_empty() {
@@ -156,15 +141,22 @@ impl Pty {
             }
             for e in events {
                 if e.mask.contains(AddWatchFlags::IN_OPEN) {
-                    // Only the first open raises DTR: a second program opening a port
+                    // Only the first open can raise DTR: a second program opening a port
                     // already open (`stty -F`, a second hostctl) resets nothing.
                     if self.host_opens == 0 {
-                        self.opened = true;
                         self.pending.clear();
+                        if !self.dtr_high {
+                            self.dtr_high = true;
+                            self.dtr_reset = true;
+                        }
                     }
                     self.host_opens += 1;
                 } else {
                     self.host_opens = self.host_opens.saturating_sub(1);
+                    if self.host_opens == 0 && self.hangs_up_on_close() {
+                        self.dtr_high = false;
+                        self.dtr_reset = true;
+                    }
                 }
             }
         }

@@ -190,6 +190,15 @@ fn closing_the_port_stops_a_rover_left_driving() {
         opened,
         "no reset on a close without HUPCL"
     );
+    // DTR stayed up, so the next open does not reset either (as on a USB serial port).
+    let again = std::fs::File::open(&link).unwrap();
+    clock.sleep(Duration::from_millis(700));
+    assert_eq!(
+        slave_resets(&control),
+        opened,
+        "no reset on an open with DTR still up"
+    );
+    drop(again);
 
     stop.store(true, Ordering::SeqCst);
     thread.join().unwrap();

@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use harness::{HostEvent, Pty};
+use harness::Pty;
 
 use crate::command::Command;
 use crate::control::ControlSocket;
@@ -84,15 +84,11 @@ impl Server {
     }
 
     fn pump(&mut self) -> Result<(), TwinError> {
-        // The Uno resets when a program opens the port (DTR auto-reset) and, with HUPCL
-        // set, when the last one closes it (DTR drops, reference §4.1): the master then
-        // hard-resets every slave, so a rover left driving stops with its program.
-        let reset = match self.pty.host_event() {
-            Some(HostEvent::Opened) => true,
-            Some(HostEvent::Closed) => self.pty.hangs_up_on_close(),
-            None => false,
-        };
-        if reset {
+        // The Uno resets when DTR rises as a program opens the port (the auto-reset) and,
+        // with HUPCL set, when it drops as the last one closes it (reference §4.1): the
+        // master then hard-resets every slave, so a rover left driving stops with its
+        // program.
+        if self.pty.take_dtr_reset() {
             self.rover.reset_master();
         }
         self.pty
