@@ -104,6 +104,12 @@ fn a_write_that_nothing_will_act_on_says_so() {
     );
     let o = hostctl("--json write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
     assert!(o.out.ends_with(",\"in_exception\":true}\n"), "{}", o.out);
+    // A register of the common block acts at once, in exception too: no note.
+    let o = hostctl("write 1 RESET 4", &WRITTEN_IN_EXCEPTION);
+    assert_eq!(
+        o.out,
+        "device 1 REG_RESET = 4 bits (raw 0x04, arrives as 4 bits)\n"
+    );
     // A status that cannot be read leaves the write reported, with the reason.
     let o = hostctl("write 1 DRIVE_REQSPEED 1000", &[[0x00]]);
     o.result.unwrap();

@@ -62,6 +62,14 @@ fn status_bit<P: Port>(
     Ok(raws.first().is_some_and(|s| s & 1 != 0))
 }
 
+/// Whether a write of `reg` waits for the exception's reset: the motors' demands and
+/// parameters (ids 9..44, and the new DRIVE_MODE) do; the common block (REG_RESET, PING,
+/// DEBUGLED, EXCEPTIONDATA, DISABLEDEXCEPTIONS …) and the new FAULTTIME and BUSTIMEOUT
+/// act at once, in exception too.
+pub fn waits_for_reset(reg: &Register) -> bool {
+    (9..=44).contains(&reg.id) || reg.name == "REGDS_DRIVE_MODE"
+}
+
 /// The note for a write that found its controller in exception.
 pub fn stored_only(device: u8) -> String {
     format!(

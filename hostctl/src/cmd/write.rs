@@ -114,7 +114,9 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
         width = usize::from(plan.reg.size) * 2,
     );
     match exception {
-        Some(Ok(true)) => text += &format!("\n{}", fresh::stored_only(plan.target.device)),
+        Some(Ok(true)) if fresh::waits_for_reset(plan.reg) => {
+            text += &format!("\n{}", fresh::stored_only(plan.target.device))
+        }
         Some(Err(e)) => {
             text += &format!("\nnote: the controller's status could not be read afterwards: {e}")
         }
