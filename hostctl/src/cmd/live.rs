@@ -107,6 +107,34 @@ impl Poller {
     }
 }
 
+/// The demands a board has dropped: an exception sets its drive's required speed to 0 and a
+/// position motor's to where it stands (reference §6.4), until a new demand is sent.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Dropped {
+    /// Per wheel and motor, how many demands it had been sent when its board was last
+    /// seen in exception.
+    at: [[Option<u32>; 3]; 6],
+}
+
+impl Dropped {
+    /// Notes every motor whose board `s` shows in exception.
+    pub fn note(&mut self, s: &Snapshot, pc: &Pc) {
+        for wheel in WHEELS {
+            for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
+                if slave_exception(s, device_of(wheel, motor)).is_some() {
+                    self.at[usize::from(wheel - 1)][motor.index()] =
+                        Some(pc.demand_sends(wheel, motor));
+                }
+            }
+        }
+    }
+
+    /// Whether `pc`'s demand of `motor` of `wheel` is one its board has dropped.
+    pub fn has(&self, pc: &Pc, wheel: u8, motor: Motor) -> bool {
+        self.at[usize::from(wheel - 1)][motor.index()] == Some(pc.demand_sends(wheel, motor))
+    }
+}
+
 /// A slave's exception as update() decodes it: the type while STATUS bit 0 is set.
 fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
     let status = s.raw(device, id::REG_STATUS)?;
@@ -155,9 +183,11 @@ pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
 }
 
 /// A demand as the required column shows it: "-" when none was sent this session (the
-/// board then holds whatever it was last given, which this view cannot know).
-fn demand(v: Option<f32>, decimals: usize) -> String {
+/// board then holds whatever it was last given, which this view cannot know), in
+/// parentheses when an exception has dropped it.
+fn demand(v: Option<f32>, decimals: usize, dropped: bool) -> String {
     match v {
+        Some(v) if dropped => format!("({v:.decimals$})"),
         Some(v) => format!("{v:.decimals$}"),
         None => "-".to_owned(),
     }
@@ -226,6 +256,7 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
 pub fn view_lines(
     s: &Snapshot,
     pc: &Pc,
+    dropped: &Dropped,
     elapsed: Duration,
     updates: u64,
     rate: f64,
@@ -271,11 +302,23 @@ pub fn view_lines(
         };
         table.rows.push(vec![
             wheel.to_string(),
-            demand(pc.demand(wheel, Motor::Drive), 0),
+            demand(
+                pc.demand(wheel, Motor::Drive),
+                0,
+                dropped.has(pc, wheel, Motor::Drive),
+            ),
             cell(s.value(ds, id::REGDS_DRIVE_ACTUALSPEED), 0),
-            demand(pc.demand(wheel, Motor::Steer), 1),
+            demand(
+                pc.demand(wheel, Motor::Steer),
+                1,
+                dropped.has(pc, wheel, Motor::Steer),
+            ),
             position(s.value(ds, id::REGDS_STEER_ACTUALPOS), wheel, Motor::Steer),
-            demand(pc.demand(wheel, Motor::Lift), 1),
+            demand(
+                pc.demand(wheel, Motor::Lift),
+                1,
+                dropped.has(pc, wheel, Motor::Lift),
+            ),
             position(s.value(ll, lift_reg), wheel, Motor::Lift),
         ]);
         exceptions.push(wheel_exceptions(s, wheel));
@@ -287,6 +330,18 @@ pub fn view_lines(
         .zip(exceptions)
         .map(|(row, exc)| format!("{row}  {exc}").trim_end().to_owned())
         .collect();
+    let any_dropped = WHEELS.into_iter().any(|w| {
+        [Motor::Drive, Motor::Steer, Motor::Lift]
+            .into_iter()
+            .any(|m| pc.demand(w, m).is_some() && dropped.has(pc, w, m))
+    });
+    if any_dropped {
+        lines.push(
+            "(…) dropped by an exception: the board aims for speed 0, a position holds where \
+             it stood, until a new demand is sent"
+                .to_owned(),
+        );
+    }
     if uncalibrated {
         lines.push(
             "* not degrees: the board's pot calibration is not the wheel's (no `calibrate` since \
@@ -352,7 +407,14 @@ mod tests {
         pc.set_required(1, Motor::Drive, 1000.0).unwrap();
         pc.set_required(1, Motor::Lift, 20.0).unwrap();
         pc.set_required(2, Motor::Steer, 0.0).unwrap();
-        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        let lines = view_lines(
+            &snapshot(),
+            &pc,
+            &Dropped::default(),
+            Duration::from_secs(2),
+            50,
+            25.0,
+        );
         assert_eq!(
             lines[0],
             "wheel  drive req   actual  steer req  actual  lift req  actual  exceptions"
@@ -420,9 +482,38 @@ mod tests {
     }
 
     #[test]
+    fn a_demand_dropped_by_an_exception_is_shown_so() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        pc.set_required(2, Motor::Drive, 500.0).unwrap();
+        pc.set_required(1, Motor::Drive, 1000.0).unwrap();
+        // Controller 2 (wheel 2's drive and steer) is in exception; controller 1 is not.
+        let mut dropped = Dropped::default();
+        dropped.note(&snapshot(), &pc);
+        let lines = view_lines(&snapshot(), &pc, &dropped, Duration::from_secs(2), 50, 25.0);
+        assert!(lines[2].starts_with("1           1000 "), "{}", lines[2]);
+        assert!(lines[3].starts_with("2          (500) "), "{}", lines[3]);
+        assert!(lines
+            .iter()
+            .any(|l| l.starts_with("(…) dropped by an exception")));
+        // A new demand is in force again.
+        pc.set_required(2, Motor::Drive, 600.0).unwrap();
+        let lines = view_lines(&snapshot(), &pc, &dropped, Duration::from_secs(2), 50, 25.0);
+        assert!(lines[3].starts_with("2            600 "), "{}", lines[3]);
+        assert!(!lines.iter().any(|l| l.starts_with("(…)")));
+    }
+
+    #[test]
     fn positions_off_the_wheels_calibration_are_marked() {
         let mut pc = Pc::new();
-        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        let lines = view_lines(
+            &snapshot(),
+            &pc,
+            &Dropped::default(),
+            Duration::from_secs(2),
+            50,
+            25.0,
+        );
         assert_eq!(
             lines[2],
             "1              -     1000          -   40.0*         -   20.0*  -"
@@ -431,11 +522,25 @@ mod tests {
                       `calibrate` since the port opened, or a `stop`, which sends -100/100)";
         assert_eq!(lines[8], legend);
         pc.calibrate().unwrap();
-        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        let lines = view_lines(
+            &snapshot(),
+            &pc,
+            &Dropped::default(),
+            Duration::from_secs(2),
+            50,
+            25.0,
+        );
         assert!(!lines.iter().any(|l| l.contains('*')), "{lines:#?}");
         // After the operator's stop the calibration is -100/100 again.
         pc.emergency_stop().unwrap();
-        let lines = view_lines(&snapshot(), &pc, Duration::from_secs(2), 50, 25.0);
+        let lines = view_lines(
+            &snapshot(),
+            &pc,
+            &Dropped::default(),
+            Duration::from_secs(2),
+            50,
+            25.0,
+        );
         assert_eq!(lines[8], legend);
     }
 }

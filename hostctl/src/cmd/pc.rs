@@ -37,7 +37,8 @@ impl Motor {
         }
     }
 
-    fn index(self) -> usize {
+    /// Its place in per-motor arrays: drive, steer, lift.
+    pub(crate) fn index(self) -> usize {
         match self {
             Motor::Drive => 0,
             Motor::Steer => 1,
@@ -163,6 +164,8 @@ pub enum Op {
 pub struct Pc {
     blocks: [[Block; 3]; 6],
     demands: [[Option<f32>; 3]; 6],
+    /// How many demands each motor has been sent: tells a new demand from an old one.
+    sends: [[u32; 3]; 6],
 }
 
 impl Default for Pc {
@@ -212,6 +215,7 @@ impl Pc {
         Pc {
             blocks: [[Block::DEFAULT; 3]; 6],
             demands: [[None; 3]; 6],
+            sends: [[0; 3]; 6],
         }
     }
 
@@ -237,6 +241,18 @@ impl Pc {
         }
     }
 
+    /// How many demands `motor` of `wheel` has been sent in this session.
+    pub fn demand_sends(&self, wheel: u8, motor: Motor) -> u32 {
+        self.sends[usize::from(wheel - 1)][motor.index()]
+    }
+
+    /// Records `value` as the demand of `motor` of `wheel`.
+    fn record_demand(&mut self, wheel: u8, motor: Motor, value: f32) {
+        let (w, m) = (usize::from(wheel - 1), motor.index());
+        self.demands[w][m] = Some(value);
+        self.sends[w][m] = self.sends[w][m].wrapping_add(1);
+    }
+
     /// The last demand sent to `motor` of `wheel` in this session, if any.
     pub fn demand(&self, wheel: u8, motor: Motor) -> Option<f32> {
         self.demands[usize::from(wheel - 1)][motor.index()]
@@ -247,7 +263,7 @@ impl Pc {
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 if device_of(wheel, motor) == device && demand_register(wheel, motor) == reg {
-                    self.demands[usize::from(wheel - 1)][motor.index()] = Some(value);
+                    self.record_demand(wheel, motor, value);
                 }
             }
         }
@@ -351,7 +367,7 @@ impl Pc {
             }
         }
         let write = raw(kind, device, reg, value)?;
-        self.demands[usize::from(wheel - 1)][motor.index()] = Some(value);
+        self.record_demand(wheel, motor, value);
         write_frame(device, &[write], "a demand")
     }
 

@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 
 use shared::regs::id;
 
-use super::live::{master_line, view_lines, wheel_exceptions, Poller, Snapshot};
+use super::live::{master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
 use super::pc::{device_of, Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
 use crate::error::HostError;
@@ -118,6 +118,8 @@ pub fn run<P: Port>(
 ) -> Result<(), HostError> {
     let poller = Poller::new()?;
     poller.configure(link)?;
+    // Demands the boards dropped in an exception, as the views see it happen.
+    let mut dropped = Dropped::default();
     if output.json {
         let start = event()
             .str("script", &plan.path)
@@ -157,7 +159,7 @@ pub fn run<P: Port>(
         };
         // The view shows the demands as they stand after this line.
         for action in &line.actions {
-            act(action, link, clock, &poller, line, output).map_err(step)?;
+            act(action, link, clock, &poller, line, &mut dropped, output).map_err(step)?;
         }
     }
     Ok(())
@@ -175,7 +177,14 @@ fn number(line: &Line) -> i64 {
 
 /// The live view as one JSON object: required against actual per wheel and motor (actual
 /// `null` when not read), and the master's EXCEPTIONDATA.
-fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f64) -> String {
+fn view_json(
+    s: &Snapshot,
+    line: &Line,
+    dropped: &Dropped,
+    elapsed: Duration,
+    updates: u64,
+    rate: f64,
+) -> String {
     let wheels = json::array(WHEELS.map(|wheel| {
         let ds = device_of(wheel, Motor::Drive);
         let ll = device_of(wheel, Motor::Lift);
@@ -192,11 +201,16 @@ fn view_json(s: &Snapshot, line: &Line, elapsed: Duration, updates: u64, rate: f
             } else {
                 "false"
             };
-            json::Object::new()
+            let required = json::Object::new()
                 .num("required", line.pc.demand(wheel, m).unwrap_or(f32::NAN))
                 .num("actual", s.value(device, reg).unwrap_or(f32::NAN))
-                .raw("calibrated", calibrated)
-                .finish()
+                .raw("calibrated", calibrated);
+            // An exception dropped the demand: the board no longer aims for it.
+            if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m) {
+                required.raw("dropped", "true").finish()
+            } else {
+                required.finish()
+            }
         };
         let object = json::Object::new()
             .int("wheel", wheel)
@@ -234,6 +248,7 @@ fn act<P: Port>(
     clock: &mut dyn Clock,
     poller: &Poller,
     line: &Line,
+    dropped: &mut Dropped,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     match action {
@@ -257,13 +272,16 @@ fn act<P: Port>(
             writeln!(output.out, "{}", say.finish())?;
         }
         Action::Say(text) => writeln!(output.out, "{text}")?,
-        Action::Live { time, log } => live(*time, *log, link, clock, poller, line, output)?,
+        Action::Live { time, log } => {
+            live(*time, *log, link, clock, poller, line, dropped, output)?
+        }
     }
     Ok(())
 }
 
 /// Polls update() for `time`, showing the view: redrawn in place on a terminal; otherwise
 /// once at the end (`wait`) or once a second (`watch`).
+#[allow(clippy::too_many_arguments)]
 fn live<P: Port>(
     time: Duration,
     log: bool,
@@ -271,6 +289,7 @@ fn live<P: Port>(
     clock: &mut dyn Clock,
     poller: &Poller,
     line: &Line,
+    dropped: &mut Dropped,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let start = clock.now();
@@ -280,6 +299,7 @@ fn live<P: Port>(
     let period = if log { LOG_EVERY } else { REDRAW };
     loop {
         let snapshot: Snapshot = poller.update(link)?;
+        dropped.note(&snapshot, &line.pc);
         updates += 1;
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
@@ -291,9 +311,9 @@ fn live<P: Port>(
         };
         if draw {
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
-            let lines = view_lines(&snapshot, &line.pc, elapsed, updates, rate);
+            let lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
             let text = if output.json {
-                let mut t = view_json(&snapshot, line, elapsed, updates, rate);
+                let mut t = view_json(&snapshot, line, dropped, elapsed, updates, rate);
                 t.push('\n');
                 t
             } else if log {
