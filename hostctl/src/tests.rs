@@ -345,6 +345,23 @@ fn read_uses_scratch_set_7_and_decodes_units() {
 }
 
 #[test]
+fn exception_data_is_read_in_words() {
+    let o = hostctl("read 1 EXCEPTIONDATA", &[&[0x01][..], &[0x02, 0x05]]);
+    assert_eq!(
+        o.out,
+        "device 1 REG_EXCEPTIONDATA = 1282 (raw 0x0502): boot, motor 5 (none) (the last exception)\n"
+    );
+    // The master's: type | controller << 8 | motor << 12 (reference §6.2).
+    let o = hostctl("read 0 EXCEPTIONDATA", &[&[0x01][..], &[0x01, 0x14]]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_EXCEPTIONDATA = 5121 (raw 0x1401): overcurrent on controller 4, motor 1\n"
+    );
+    let o = hostctl("read 0 EXCEPTIONDATA", &[&[0x01][..], &[0x00, 0x00]]);
+    assert!(o.out.ends_with(": no exception\n"), "{}", o.out);
+}
+
+#[test]
 fn read_sizes_the_reply_from_the_device_table() {
     // STEER_CALIBMAX is one byte on DS; the same id (43) is TWO_STALLCHECK on LL.
     let o = hostctl("read 2 STEER_CALIBMAX", &[&[0x01][..], &[0xc4]]);

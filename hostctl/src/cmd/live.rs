@@ -146,7 +146,7 @@ fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
 }
 
 /// Words for an exception type code.
-fn type_name(code: u8) -> String {
+pub(crate) fn type_name(code: u8) -> String {
     match ExceptionType::from_code(code) {
         Some(t) => t.name().to_owned(),
         None => format!("type {code}"),

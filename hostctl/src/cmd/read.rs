@@ -122,7 +122,39 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
     );
     if boot_scale {
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
+    } else if let Some(words) = exception_words(target, reg, raw) {
+        format!("{text}: {words}")
     } else {
         text
     }
+}
+
+/// An EXCEPTIONDATA value in words: a slave's type and motor (reference §6.2), or the
+/// master's type, controller and motor.
+fn exception_words(target: Target, reg: &Register, raw: u16) -> Option<String> {
+    let motor = |m: u16| match m {
+        0 | 1 => format!("motor {m}"),
+        _ => format!("motor {m} (none)"),
+    };
+    if target.device == 0 && reg.id == id::REGMASTER_EXCEPTIONDATA {
+        let (kind, slave, m) = ((raw & 0xff) as u8, (raw >> 8) & 0xf, raw >> 12);
+        return Some(match (raw, slave) {
+            (0, _) => "no exception".to_owned(),
+            (_, 0) => super::live::type_name(kind),
+            _ => format!(
+                "{} on controller {slave}, {}",
+                super::live::type_name(kind),
+                motor(m)
+            ),
+        });
+    }
+    if target.device != 0 && reg.id == id::REG_EXCEPTIONDATA {
+        let (kind, m) = ((raw & 0xff) as u8, raw >> 8);
+        return Some(format!(
+            "{}, {} (the last exception)",
+            super::live::type_name(kind),
+            motor(m)
+        ));
+    }
+    None
 }
