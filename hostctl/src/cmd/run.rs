@@ -19,15 +19,18 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use shared::regs::id;
+use shared::mapping;
+use shared::regs::{id, Register};
 
 use super::live::{master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
 use super::pc::{device_of, Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
+use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
+use crate::resolve;
 use crate::table::Screen;
 
 /// Arguments of `run`.
@@ -118,8 +121,7 @@ pub fn run<P: Port>(
 ) -> Result<(), HostError> {
     let poller = Poller::new()?;
     poller.configure(link)?;
-    // Demands the boards dropped in an exception, as the views see it happen.
-    let mut dropped = Dropped::default();
+    let mut session = Session::default();
     if output.json {
         let start = event()
             .str("script", &plan.path)
@@ -159,10 +161,76 @@ pub fn run<P: Port>(
         };
         // The view shows the demands as they stand after this line.
         for action in &line.actions {
-            act(action, link, clock, &poller, line, &mut dropped, output).map_err(step)?;
+            act(action, link, clock, &poller, line, &mut session, output).map_err(step)?;
         }
     }
     Ok(())
+}
+
+/// What a run keeps from line to line.
+#[derive(Default)]
+struct Session {
+    /// Demands the boards dropped in an exception, as the views saw it happen.
+    dropped: Dropped,
+    /// The read sets `show` lines configured, read at every update of a view.
+    shown: Vec<SetRead>,
+}
+
+/// The values of the `show` sets at one update: each set's device and its registers.
+type Shown = Vec<(u8, Vec<(&'static Register, u16)>)>;
+
+/// Reads every `show` set.
+fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, HostError> {
+    session
+        .shown
+        .iter()
+        .map(|read| {
+            let raws = read.run(link)?;
+            Ok((
+                read.target.device,
+                read.regs.iter().copied().zip(raws).collect(),
+            ))
+        })
+        .collect()
+}
+
+/// The `show` values as text: a line per set.
+fn shown_lines(shown: &Shown) -> Vec<String> {
+    shown
+        .iter()
+        .map(|(device, values)| {
+            let cells: Vec<String> = values
+                .iter()
+                .map(|&(reg, raw)| {
+                    format!(
+                        "{} {}{}",
+                        reg.short_name(),
+                        resolve::show(reg, raw),
+                        resolve::unit_suffix(reg)
+                    )
+                })
+                .collect();
+            format!("device {device}: {}", cells.join(", "))
+        })
+        .collect()
+}
+
+/// The `show` values as a JSON array.
+fn shown_json(shown: &Shown) -> String {
+    json::array(shown.iter().map(|(device, values)| {
+        let values = json::array(values.iter().map(|&(reg, raw)| {
+            json::Object::new()
+                .str("register", reg.name)
+                .int("raw", raw)
+                .num("value", mapping::unmap(raw, reg))
+                .str("unit", reg.unit)
+                .finish()
+        }));
+        json::Object::new()
+            .int("device", *device)
+            .raw("values", &values)
+            .finish()
+    }))
 }
 
 /// A JSON line of `run`, its members still to come.
@@ -181,6 +249,7 @@ fn view_json(
     s: &Snapshot,
     line: &Line,
     dropped: &Dropped,
+    shown: &Shown,
     elapsed: Duration,
     updates: u64,
     rate: f64,
@@ -231,15 +300,20 @@ fn view_json(
         Some(raw) => raw.to_string(),
         None => "null".to_owned(),
     };
-    event()
+    let view = event()
         .int("line", number(line))
         .num("elapsed_s", elapsed.as_secs_f32())
         .int("updates", i64::try_from(updates).unwrap_or(i64::MAX))
         .num("rate", rate as f32)
         .raw("wheels", &wheels)
         .raw("master_exception", &exception)
-        .str("master", &master_line(s))
-        .finish()
+        .str("master", &master_line(s));
+    // What `show` lines added, when there are any.
+    if shown.is_empty() {
+        view.finish()
+    } else {
+        view.raw("shown", &shown_json(shown)).finish()
+    }
 }
 
 fn act<P: Port>(
@@ -248,10 +322,17 @@ fn act<P: Port>(
     clock: &mut dyn Clock,
     poller: &Poller,
     line: &Line,
-    dropped: &mut Dropped,
+    session: &mut Session,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     match action {
+        Action::Show { target, regs, set } => {
+            let frame = set_frame(*target, *set, regs)?;
+            configure(link, *target, *set, &frame, regs.len())?;
+            session
+                .shown
+                .push(SetRead::new(*target, *set, regs.clone())?);
+        }
         Action::Op(Op::Write(send)) => {
             let reply = link.transact(send.device, &send.frame, 1)?;
             let code = reply.first().copied().unwrap_or_default();
@@ -273,7 +354,7 @@ fn act<P: Port>(
         }
         Action::Say(text) => writeln!(output.out, "{text}")?,
         Action::Live { time, log } => {
-            live(*time, *log, link, clock, poller, line, dropped, output)?
+            live(*time, *log, link, clock, poller, line, session, output)?
         }
     }
     Ok(())
@@ -289,7 +370,7 @@ fn live<P: Port>(
     clock: &mut dyn Clock,
     poller: &Poller,
     line: &Line,
-    dropped: &mut Dropped,
+    session: &mut Session,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let start = clock.now();
@@ -299,7 +380,8 @@ fn live<P: Port>(
     let period = if log { LOG_EVERY } else { REDRAW };
     loop {
         let snapshot: Snapshot = poller.update(link)?;
-        dropped.note(&snapshot, &line.pc);
+        let shown = read_shown(session, link)?;
+        session.dropped.note(&snapshot, &line.pc);
         updates += 1;
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
@@ -311,9 +393,11 @@ fn live<P: Port>(
         };
         if draw {
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
-            let lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
+            let dropped = &session.dropped;
+            let mut lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
+            lines.extend(shown_lines(&shown));
             let text = if output.json {
-                let mut t = view_json(&snapshot, line, dropped, elapsed, updates, rate);
+                let mut t = view_json(&snapshot, line, dropped, &shown, elapsed, updates, rate);
                 t.push('\n');
                 t
             } else if log {
@@ -374,6 +458,38 @@ mod tests {
             path: "t.rover".into(),
             lines,
         }
+    }
+
+    #[test]
+    fn show_adds_registers_to_every_view() {
+        let plan = plan("show 1 drive_control drive_error\nwait 0.01\n");
+        let mut replies = configure_replies();
+        // The show set's count, then per update the ten reads and the show set's 4 bytes.
+        replies.push(vec![2]);
+        for _ in 0..2 {
+            replies.extend(update_replies());
+            // CONTROL at the middle of -255..255 (0), ERROR at the top of ±1000.
+            replies.push(vec![0xff, 0x7f, 0xfe, 0xff]);
+        }
+        let mut port = FakePort::with_replies(&replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut out = Vec::new();
+        let mut output = Output {
+            out: &mut out,
+            in_place: false,
+            json: false,
+        };
+        run(&plan, &mut link, &mut clock, &mut output).unwrap();
+        let hex = port.frames_hex();
+        // Set 3 on controller 1: DRIVE_CONTROL (20), DRIVE_ERROR (17); read after update().
+        assert_eq!(hex[10], "05 14 03 14 11");
+        assert_eq!(hex[21], "03 13 03");
+        let text = String::from_utf8(out).unwrap();
+        assert!(
+            text.contains("\ndevice 1: DRIVE_CONTROL 0.000 duty, DRIVE_ERROR 1000.000 ticks/s\n"),
+            "{text}"
+        );
     }
 
     #[test]

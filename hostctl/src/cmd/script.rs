@@ -16,6 +16,7 @@
 //! | `stop` | The operator's emergency stop (§10.3): 36 frames, every demand 0 |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
+//! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (at most four such lines: read sets 3..6) |
 //! | `say TEXT` | Print TEXT (up to a comment) |
 //!
 //! The whole script is checked, and its frames built, before anything is sent: a bad line
@@ -25,9 +26,13 @@
 
 use std::time::Duration;
 
+use shared::protocol::READ_SET_SIZE;
+use shared::regs::Register;
+
 use super::pc::{self, Motor, Op, Pc, WHEELS};
 use super::write;
 use crate::error::HostError;
+use crate::resolve::{self, Target};
 
 /// What one script line does, in order.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,7 +49,20 @@ pub enum Action {
     },
     /// Print a line.
     Say(String),
+    /// Add registers of a device to every later live view (each such line takes one of the
+    /// read sets [`SHOW_SETS`]).
+    Show {
+        /// The device.
+        target: Target,
+        /// Its registers, in the order given.
+        regs: Vec<&'static Register>,
+        /// The read set that holds them, one of [`SHOW_SETS`].
+        set: u8,
+    },
 }
+
+/// The read sets `show` lines use, in order: 0..2 are the library's, 7 is hostctl's scratch.
+pub const SHOW_SETS: [u8; 4] = [3, 4, 5, 6];
 
 /// One checked script line.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,12 +84,14 @@ const MAX_SECONDS: f64 = 3600.0;
 pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
     let mut pc = Pc::new();
     let mut lines = Vec::new();
+    // `show` lines so far: the next one takes the next of SHOW_SETS.
+    let mut shows = 0;
     for (i, raw) in source.lines().enumerate() {
         let text = without_comment(raw).trim();
         if text.is_empty() {
             continue;
         }
-        let actions = line(&mut pc, text).map_err(|why| {
+        let actions = line(&mut pc, text, SHOW_SETS.get(shows).copied()).map_err(|why| {
             // `#forward` or `1000#fwd` is text, not a comment: say how to write one.
             let hint = if text.contains('#') {
                 "; a comment is `#` followed by a space"
@@ -85,6 +105,9 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
                 why: format!("{why}{hint}"),
             }
         })?;
+        if actions.iter().any(|a| matches!(a, Action::Show { .. })) {
+            shows += 1;
+        }
         lines.push(Line {
             number: i + 1,
             text: text.to_owned(),
@@ -174,7 +197,8 @@ impl From<HostError> for Why {
 }
 
 const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
-steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS | say TEXT";
+steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS | \
+show DEV REG… | say TEXT";
 
 fn number(word: &str) -> Result<f32, Why> {
     word.parse::<f32>()
@@ -205,8 +229,9 @@ fn ops(list: Vec<Op>) -> Vec<Action> {
     list.into_iter().map(Action::Op).collect()
 }
 
-/// One line's actions, updating the library state `pc`.
-fn line(pc: &mut Pc, text: &str) -> Result<Vec<Action>, Why> {
+/// One line's actions, updating the library state `pc`; a `show` line takes read set
+/// `show_set` (`None`: every one is taken).
+fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Why> {
     let words: Vec<&str> = text.split_whitespace().collect();
     let set = |pc: &mut Pc, motor, targets: &[u8], value| -> Result<Vec<Action>, Why> {
         targets
@@ -232,6 +257,18 @@ fn line(pc: &mut Pc, text: &str) -> Result<Vec<Action>, Why> {
             }))])
         }
         ["write", ..] => Err(Why::Usage("write DEV REG VALUE")),
+        ["show", dev, regs @ ..] if !regs.is_empty() && regs.len() <= READ_SET_SIZE => {
+            let set = show_set.ok_or(Why::Usage(
+                "at most four `show` lines (read sets 3..6): name more registers on one line",
+            ))?;
+            let target = resolve::device(dev)?;
+            let regs = regs
+                .iter()
+                .map(|r| resolve::register(target, r))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(vec![Action::Show { target, regs, set }])
+        }
+        ["show", ..] => Err(Why::Usage("show DEV REG [REG …]   (1 to 24 registers)")),
         ["drive", w, v] => {
             const U: &str = "drive W|all SPEED   (W = wheel 1..6, SPEED in ticks/s)";
             set(pc, Motor::Drive, &wheels(w, U)?, number(v)?)
@@ -290,6 +327,24 @@ mod tests {
 
     fn refusal(source: &str) -> String {
         parse("demo.rover", source).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn show_lines_take_sets_3_to_6() {
+        let lines = parse("s", "show 1 drive_control\nshow 3 one_control two_control").unwrap();
+        assert!(matches!(
+            &lines[1].actions[..],
+            [Action::Show { set: 4, regs, .. }] if regs.len() == 2
+        ));
+        let five = "show 1 timer\n".repeat(5);
+        let err = parse("s", &five).unwrap_err().to_string();
+        assert!(
+            err.contains("line 5") && err.contains("at most four `show` lines"),
+            "{err}"
+        );
+        let err = parse("s", "show 1 one_control").unwrap_err().to_string();
+        assert!(err.contains("LL table"), "{err}");
+        assert!(parse("s", "show 1").is_err());
     }
 
     #[test]
