@@ -96,6 +96,43 @@ fn hostctl_and_the_twin_agree_on_the_default_link() {
     );
 }
 
+/// A paced twin whose pty is linked in a fresh directory, with what a test uses of it.
+struct Linked {
+    dir: std::path::PathBuf,
+    link: std::path::PathBuf,
+    /// Its control socket.
+    control: std::path::PathBuf,
+    /// The link as hostctl takes a port.
+    port: String,
+    stop: Arc<AtomicBool>,
+    thread: std::thread::JoinHandle<()>,
+}
+
+impl Linked {
+    /// Starts one in a directory named after `test`.
+    fn start(test: &str) -> Linked {
+        let dir = std::env::temp_dir().join(format!("{test}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let link = dir.join("port");
+        let (_path, stop, thread) = start_twin(Some(link.clone()));
+        Linked {
+            control: twin::paths::control_of(&link),
+            port: link.display().to_string(),
+            dir,
+            link,
+            stop,
+            thread,
+        }
+    }
+
+    /// Stops the twin and removes its directory.
+    fn finish(self) {
+        self.stop.store(true, Ordering::SeqCst);
+        self.thread.join().unwrap();
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 /// Each controller's watchdog resets, from the twin's status (its line lists the master
 /// first, then controllers 1..9).
 fn slave_resets(control: &std::path::Path) -> Vec<u64> {
@@ -127,12 +164,9 @@ fn drive_speeds(control: &std::path::Path) -> Vec<f64> {
 
 #[test]
 fn closing_the_port_stops_a_rover_left_driving() {
-    let dir = std::env::temp_dir().join(format!("twin-hangup-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let link = dir.join("port");
-    let control = twin::paths::control_of(&link);
-    let (_path, stop, thread) = start_twin(Some(link.clone()));
-    let port = link.display().to_string();
+    let twin = Linked::start("twin-hangup-test");
+    let (dir, link) = (twin.dir.clone(), twin.link.clone());
+    let (control, port) = (twin.control.clone(), twin.port.clone());
     let mut clock = hostctl::twin::clock_for(&port);
 
     // A script that ends with the rover driving, run over a port this test holds open.
@@ -200,19 +234,14 @@ fn closing_the_port_stops_a_rover_left_driving() {
     );
     drop(again);
 
-    stop.store(true, Ordering::SeqCst);
-    thread.join().unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    twin.finish();
 }
 
 #[test]
 fn a_second_open_of_a_port_in_use_resets_nothing() {
-    let dir = std::env::temp_dir().join(format!("twin-second-open-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let link = dir.join("port");
-    let control = twin::paths::control_of(&link);
-    let (_path, stop, thread) = start_twin(Some(link.clone()));
-    let port = link.display().to_string();
+    let twin = Linked::start("twin-second-open");
+    let link = twin.link.clone();
+    let (control, port) = (twin.control.clone(), twin.port.clone());
     let mut clock = hostctl::twin::clock_for(&port);
     let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
     clock.sleep(Duration::from_millis(300));
@@ -232,7 +261,5 @@ fn a_second_open_of_a_port_in_use_resets_nothing() {
     );
 
     drop(serial);
-    stop.store(true, Ordering::SeqCst);
-    thread.join().unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    twin.finish();
 }

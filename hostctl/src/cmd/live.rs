@@ -135,6 +135,18 @@ impl Dropped {
     }
 }
 
+/// The actual speed or position of `motor` of `wheel`, read from the snapshot: its board's
+/// ACTUALSPEED or ACTUALPOS (lift ONE on odd wheels, TWO on even ones).
+pub(crate) fn actual(s: &Snapshot, wheel: u8, motor: Motor) -> Option<f32> {
+    let reg = match motor {
+        Motor::Drive => id::REGDS_DRIVE_ACTUALSPEED,
+        Motor::Steer => id::REGDS_STEER_ACTUALPOS,
+        Motor::Lift if wheel % 2 == 1 => id::REGLL_ONE_ACTUALPOS,
+        Motor::Lift => id::REGLL_TWO_ACTUALPOS,
+    };
+    s.value(device_of(wheel, motor), reg)
+}
+
 /// A slave's exception as update() decodes it: the type while STATUS bit 0 is set.
 fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
     let status = s.raw(device, id::REG_STATUS)?;
@@ -293,13 +305,6 @@ pub fn view_lines(
         }
     };
     for wheel in WHEELS {
-        let ds = device_of(wheel, Motor::Drive);
-        let ll = device_of(wheel, Motor::Lift);
-        let lift_reg = if wheel % 2 == 1 {
-            id::REGLL_ONE_ACTUALPOS
-        } else {
-            id::REGLL_TWO_ACTUALPOS
-        };
         table.rows.push(vec![
             wheel.to_string(),
             demand(
@@ -307,19 +312,19 @@ pub fn view_lines(
                 0,
                 dropped.has(pc, wheel, Motor::Drive),
             ),
-            cell(s.value(ds, id::REGDS_DRIVE_ACTUALSPEED), 0),
+            cell(actual(s, wheel, Motor::Drive), 0),
             demand(
                 pc.demand(wheel, Motor::Steer),
                 1,
                 dropped.has(pc, wheel, Motor::Steer),
             ),
-            position(s.value(ds, id::REGDS_STEER_ACTUALPOS), wheel, Motor::Steer),
+            position(actual(s, wheel, Motor::Steer), wheel, Motor::Steer),
             demand(
                 pc.demand(wheel, Motor::Lift),
                 1,
                 dropped.has(pc, wheel, Motor::Lift),
             ),
-            position(s.value(ll, lift_reg), wheel, Motor::Lift),
+            position(actual(s, wheel, Motor::Lift), wheel, Motor::Lift),
         ]);
         exceptions.push(wheel_exceptions(s, wheel));
     }
@@ -400,6 +405,11 @@ mod tests {
         Snapshot::new(rows)
     }
 
+    /// The view of [`snapshot`] for `pc`, two seconds and 50 updates in.
+    fn view(pc: &Pc, dropped: &Dropped) -> Vec<String> {
+        view_lines(&snapshot(), pc, dropped, Duration::from_secs(2), 50, 25.0)
+    }
+
     #[test]
     fn view_shows_required_against_actual() {
         let mut pc = Pc::new();
@@ -407,14 +417,7 @@ mod tests {
         pc.set_required(1, Motor::Drive, 1000.0).unwrap();
         pc.set_required(1, Motor::Lift, 20.0).unwrap();
         pc.set_required(2, Motor::Steer, 0.0).unwrap();
-        let lines = view_lines(
-            &snapshot(),
-            &pc,
-            &Dropped::default(),
-            Duration::from_secs(2),
-            50,
-            25.0,
-        );
+        let lines = view(&pc, &Dropped::default());
         assert_eq!(
             lines[0],
             "wheel  drive req   actual  steer req  actual  lift req  actual  exceptions"
@@ -490,7 +493,7 @@ mod tests {
         // Controller 2 (wheel 2's drive and steer) is in exception; controller 1 is not.
         let mut dropped = Dropped::default();
         dropped.note(&snapshot(), &pc);
-        let lines = view_lines(&snapshot(), &pc, &dropped, Duration::from_secs(2), 50, 25.0);
+        let lines = view(&pc, &dropped);
         assert!(lines[2].starts_with("1           1000 "), "{}", lines[2]);
         assert!(lines[3].starts_with("2          (500) "), "{}", lines[3]);
         assert!(lines
@@ -498,7 +501,7 @@ mod tests {
             .any(|l| l.starts_with("(…) dropped by an exception")));
         // A new demand is in force again.
         pc.set_required(2, Motor::Drive, 600.0).unwrap();
-        let lines = view_lines(&snapshot(), &pc, &dropped, Duration::from_secs(2), 50, 25.0);
+        let lines = view(&pc, &dropped);
         assert!(lines[3].starts_with("2            600 "), "{}", lines[3]);
         assert!(!lines.iter().any(|l| l.starts_with("(…)")));
     }
@@ -506,14 +509,7 @@ mod tests {
     #[test]
     fn positions_off_the_wheels_calibration_are_marked() {
         let mut pc = Pc::new();
-        let lines = view_lines(
-            &snapshot(),
-            &pc,
-            &Dropped::default(),
-            Duration::from_secs(2),
-            50,
-            25.0,
-        );
+        let lines = view(&pc, &Dropped::default());
         assert_eq!(
             lines[2],
             "1              -     1000          -   40.0*         -   20.0*  -"
@@ -522,25 +518,11 @@ mod tests {
                       `calibrate` since the port opened, or a `stop`, which sends -100/100)";
         assert_eq!(lines[8], legend);
         pc.calibrate().unwrap();
-        let lines = view_lines(
-            &snapshot(),
-            &pc,
-            &Dropped::default(),
-            Duration::from_secs(2),
-            50,
-            25.0,
-        );
+        let lines = view(&pc, &Dropped::default());
         assert!(!lines.iter().any(|l| l.contains('*')), "{lines:#?}");
         // After the operator's stop the calibration is -100/100 again.
         pc.emergency_stop().unwrap();
-        let lines = view_lines(
-            &snapshot(),
-            &pc,
-            &Dropped::default(),
-            Duration::from_secs(2),
-            50,
-            25.0,
-        );
+        let lines = view(&pc, &Dropped::default());
         assert_eq!(lines[8], legend);
     }
 }

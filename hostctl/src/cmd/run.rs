@@ -22,8 +22,8 @@ use std::time::{Duration, Instant};
 use shared::mapping;
 use shared::regs::{id, Register};
 
-use super::live::{master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
-use super::pc::{device_of, Motor, Op, WHEELS};
+use super::live::{actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
+use super::pc::{Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
@@ -255,16 +255,9 @@ fn view_json(
     rate: f64,
 ) -> String {
     let wheels = json::array(WHEELS.map(|wheel| {
-        let ds = device_of(wheel, Motor::Drive);
-        let ll = device_of(wheel, Motor::Lift);
-        let lift_reg = if wheel % 2 == 1 {
-            id::REGLL_ONE_ACTUALPOS
-        } else {
-            id::REGLL_TWO_ACTUALPOS
-        };
         // `calibrated` false: a position on a pot scale that is not the wheel's, not degrees
         // (see `Pc::calibrated`).
-        let motor = |m: Motor, device: u8, reg: u8| {
+        let motor = |m: Motor| {
             let calibrated = if line.pc.calibrated(wheel, m) {
                 "true"
             } else {
@@ -272,7 +265,7 @@ fn view_json(
             };
             let required = json::Object::new()
                 .num("required", line.pc.demand(wheel, m).unwrap_or(f32::NAN))
-                .num("actual", s.value(device, reg).unwrap_or(f32::NAN))
+                .num("actual", actual(s, wheel, m).unwrap_or(f32::NAN))
                 .raw("calibrated", calibrated);
             // An exception dropped the demand: the board no longer aims for it.
             if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m) {
@@ -283,12 +276,9 @@ fn view_json(
         };
         let object = json::Object::new()
             .int("wheel", wheel)
-            .raw(
-                "drive",
-                &motor(Motor::Drive, ds, id::REGDS_DRIVE_ACTUALSPEED),
-            )
-            .raw("steer", &motor(Motor::Steer, ds, id::REGDS_STEER_ACTUALPOS))
-            .raw("lift", &motor(Motor::Lift, ll, lift_reg));
+            .raw("drive", &motor(Motor::Drive))
+            .raw("steer", &motor(Motor::Steer))
+            .raw("lift", &motor(Motor::Lift));
         // The exceptions in words, as the text view's column has them; null for none.
         match wheel_exceptions(s, wheel).as_str() {
             "-" => object.raw("exceptions", "null"),
@@ -460,9 +450,40 @@ mod tests {
         }
     }
 
+    /// What running a script over a fake port did.
+    struct Ran {
+        result: Result<(), HostError>,
+        /// The frames sent, in hex.
+        hex: Vec<String>,
+        /// The pauses taken on the fake clock.
+        pauses: Vec<Duration>,
+        /// What was printed.
+        text: String,
+    }
+
+    /// Runs `source` as `t.rover` against a fake port answering `replies`.
+    fn run_script(source: &str, replies: &[Vec<u8>], json: bool) -> Ran {
+        let plan = plan(source);
+        let mut port = FakePort::with_replies(replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut out = Vec::new();
+        let mut output = Output {
+            out: &mut out,
+            in_place: false,
+            json,
+        };
+        let result = run(&plan, &mut link, &mut clock, &mut output);
+        Ran {
+            result,
+            hex: port.frames_hex(),
+            pauses: clock.1,
+            text: String::from_utf8(out).unwrap(),
+        }
+    }
+
     #[test]
     fn show_adds_registers_to_every_view() {
-        let plan = plan("show 1 drive_control drive_error\nwait 0.01\n");
         let mut replies = configure_replies();
         // The show set's count, then per update the ten reads and the show set's 4 bytes.
         replies.push(vec![2]);
@@ -471,21 +492,16 @@ mod tests {
             // CONTROL at the middle of -255..255 (0), ERROR at the top of ±1000.
             replies.push(vec![0xff, 0x7f, 0xfe, 0xff]);
         }
-        let mut port = FakePort::with_replies(&replies);
-        let mut link = Link::ready(&mut port);
-        let mut clock = FakeClock(Duration::ZERO, Vec::new());
-        let mut out = Vec::new();
-        let mut output = Output {
-            out: &mut out,
-            in_place: false,
-            json: false,
-        };
-        run(&plan, &mut link, &mut clock, &mut output).unwrap();
-        let hex = port.frames_hex();
+        let ran = run_script(
+            "show 1 drive_control drive_error\nwait 0.01\n",
+            &replies,
+            false,
+        );
+        ran.result.unwrap();
+        let (hex, text) = (ran.hex, ran.text);
         // Set 3 on controller 1: DRIVE_CONTROL (20), DRIVE_ERROR (17); read after update().
         assert_eq!(hex[10], "05 14 03 14 11");
         assert_eq!(hex[21], "03 13 03");
-        let text = String::from_utf8(out).unwrap();
         assert!(
             text.contains("\ndevice 1: DRIVE_CONTROL 0.000 duty, DRIVE_ERROR 1000.000 ticks/s\n"),
             "{text}"
@@ -494,28 +510,14 @@ mod tests {
 
     #[test]
     fn a_script_runs_in_one_session_with_its_pauses_and_view() {
-        let plan = plan("drive 1 1000\ncalibrate\nwait 0.01\n");
         let mut replies = configure_replies();
         replies.push(vec![0]);
         replies.extend(std::iter::repeat_n(vec![0], 30));
         replies.extend(update_replies());
         replies.extend(update_replies());
-        let mut port = FakePort::with_replies(&replies);
-        let mut link = Link::ready(&mut port);
-        let mut clock = FakeClock(Duration::ZERO, Vec::new());
-        let mut out = Vec::new();
-        run(
-            &plan,
-            &mut link,
-            &mut clock,
-            &mut Output {
-                out: &mut out,
-                in_place: false,
-                json: false,
-            },
-        )
-        .unwrap();
-        let hex = port.frames_hex();
+        let ran = run_script("drive 1 1000\ncalibrate\nwait 0.01\n", &replies, false);
+        ran.result.unwrap();
+        let hex = ran.hex;
         assert_eq!(
             hex[0],
             "17 14 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27"
@@ -533,10 +535,10 @@ mod tests {
         );
         assert_eq!(hex[50], "03 03 02");
         assert_eq!(hex.len(), 61, "two update() rounds in 10 ms of fake time");
-        let pauses: Vec<Duration> = clock.1.clone();
+        let pauses = ran.pauses;
         assert_eq!(pauses[..12], [Duration::from_millis(50); 12]);
         assert_eq!(pauses[12..], [TICK]);
-        let text = String::from_utf8(out).unwrap();
+        let text = ran.text;
         assert!(text.starts_with(
             "t.rover: 3 lines; read sets 0, 1, 2 configured\n\
              note: line 1 sends a demand, but no line is `reset`: after the port opens every \
@@ -556,27 +558,13 @@ mod tests {
 
     #[test]
     fn with_json_every_line_printed_is_a_json_object() {
-        let plan = plan("say Go\ndrive 1 1000\nwait 0.01\n");
         let mut replies = configure_replies();
         replies.push(vec![0]);
         replies.extend(update_replies());
         replies.extend(update_replies());
-        let mut port = FakePort::with_replies(&replies);
-        let mut link = Link::ready(&mut port);
-        let mut clock = FakeClock(Duration::ZERO, Vec::new());
-        let mut out = Vec::new();
-        run(
-            &plan,
-            &mut link,
-            &mut clock,
-            &mut Output {
-                out: &mut out,
-                in_place: false,
-                json: true,
-            },
-        )
-        .unwrap();
-        let text = String::from_utf8(out).unwrap();
+        let ran = run_script("say Go\ndrive 1 1000\nwait 0.01\n", &replies, true);
+        ran.result.unwrap();
+        let text = ran.text;
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(
             lines[..6],
@@ -652,24 +640,9 @@ mod tests {
 
     #[test]
     fn a_refused_write_names_the_script_line() {
-        let plan = plan("reset\n");
         let mut replies = configure_replies();
         replies.push(vec![0x8c]);
-        let mut port = FakePort::with_replies(&replies);
-        let mut link = Link::ready(&mut port);
-        let mut clock = FakeClock(Duration::ZERO, Vec::new());
-        let mut out = Vec::new();
-        let err = run(
-            &plan,
-            &mut link,
-            &mut clock,
-            &mut Output {
-                out: &mut out,
-                in_place: false,
-                json: false,
-            },
-        )
-        .unwrap_err();
+        let err = run_script("reset\n", &replies, false).result.unwrap_err();
         assert!(
             err.to_string().starts_with("t.rover line 1 (`reset`) failed: device 1 refused the write to REG_RESET: code 140"),
             "{err}"
