@@ -265,6 +265,32 @@ pub fn arrives_as(reg: &Register, raw: u16) -> String {
     }
 }
 
+/// For `read`: what a board does with a register it does not use as its value, or
+/// `None` where it does. A threshold's register also differs from the board's own value
+/// from boot until its first write (reference §8.1: DRIVE_OVERCURRENTTHRESH reads 299.997
+/// and STALLCHECK 119.469 while the board uses 300 and 120).
+pub fn use_note(reg: &Register, raw: u16) -> Option<String> {
+    match slave_use(reg) {
+        SlaveUse::Value => None,
+        SlaveUse::Integer => Some(format!(
+            "the board uses whole numbers: written, this value acts as {}; from boot until \
+             the first write it uses {}",
+            arrives_as(reg, raw),
+            power_on_integer(reg),
+        )),
+        SlaveUse::DriveMode => (raw > 1).then(|| "any value but 1 acts as mode 0".to_owned()),
+    }
+}
+
+/// The board's own value of an integer parameter at power-up.
+fn power_on_integer(reg: &Register) -> u16 {
+    if reg.name.ends_with("STALLCHECK") {
+        u16::from(shared::slave::fault::STALL_CHECK_POWER_ON)
+    } else {
+        shared::slave::motor::THRESHOLD_POWER_ON
+    }
+}
+
 /// A register's value for people: unmapped registers as integers, mapped ones with three
 /// decimals.
 pub fn show(reg: &Register, raw: u16) -> String {

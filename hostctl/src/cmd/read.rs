@@ -124,6 +124,8 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
     } else if let Some(words) = exception_words(target, reg, raw) {
         format!("{text}: {words}")
+    } else if let Some(note) = resolve::use_note(reg, raw) {
+        format!("{text}\nnote: {note}")
     } else {
         text
     }
