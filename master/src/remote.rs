@@ -7,7 +7,9 @@
 //!   keeps the link state on its millisecond clock, sends the first link-up's writes once
 //!   per boot (one per idle loop, so the PC link and the schedule are served in
 //!   between), then one pass every [`PASS_PERIOD_MS`] while the link is up: REQSPEED and
-//!   STEER_REQPOS to the six drive/steer boards.
+//!   STEER_REQPOS to the six drive/steer boards; and one more when the link is lost (no
+//!   edge for 1 s), with drive and steer centred: REQSPEED 0, the steering left as it
+//!   was (new: the original left the drives on the last pass's speed).
 //!
 //! **Pass rate.** The original ran a pass per main-loop pass, and its loop, carrying
 //! twelve 100-kHz I2C writes, took about 5 ms: the steer integrator (0.03° per pass)
@@ -64,6 +66,9 @@ pub struct RemoteControl {
     setup: Option<LinkUpWrites>,
     /// The clock's low 16 bits at the last pass (it is checked every loop).
     last_pass_ms: u16,
+    /// The link was lost and the stopping pass is still to send (after any link-up
+    /// writes in progress, so that none of them comes after it).
+    stop_due: bool,
 }
 
 impl RemoteControl {
@@ -75,6 +80,7 @@ impl RemoteControl {
             remote: Remote::new(),
             setup: None,
             last_pass_ms: 0,
+            stop_due: false,
         }
     }
 
@@ -100,14 +106,15 @@ impl RemoteControl {
 
     /// Sends through `send` what is due at `now_ms`: the first link-up's writes one at a
     /// time (device 0 is the master itself), then every [`PASS_PERIOD_MS`] while the link
-    /// is up a pass, whose twelve writes go out together (about 1.3 ms at 400 kHz).
-    /// Returns whether anything was sent.
+    /// is up a pass, whose twelve writes go out together (about 1.3 ms at 400 kHz), and
+    /// the stopping pass once the link is lost. Returns whether anything was sent.
     #[inline(never)]
     pub fn next(&mut self, now_ms: u16, mut send: impl FnMut(RegWrite)) -> bool {
-        let (up, first) = self.remote.link_state(u32::from(now_ms));
-        if first {
+        let link = self.remote.link_state(u32::from(now_ms));
+        if link.first {
             self.setup = Some(LinkUpWrites::new());
         }
+        self.stop_due |= link.lost;
         if let Some(setup) = self.setup.as_mut() {
             match setup.next() {
                 Some(w) => {
@@ -118,7 +125,8 @@ impl RemoteControl {
             }
         }
         let now = now_ms;
-        if !up || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS {
+        let stop = core::mem::take(&mut self.stop_due);
+        if !stop && (!link.up || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS) {
             return false;
         }
         self.last_pass_ms = now;

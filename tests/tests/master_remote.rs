@@ -2,7 +2,8 @@
 //! link-up resets every board's exception and sends the drive and steer parameters to
 //! the six drive/steer boards; then each pass sends REQSPEED and the Ackermann steer
 //! angles; PC frames get no reply while the link is up, and are answered again once it
-//! has been down for a second.
+//! has been down for a second, when the master also stops the six drives (new: the
+//! original left them on the last pass's speed).
 
 mod master_support;
 
@@ -153,9 +154,43 @@ fn full_forward_and_a_held_turn_drive_the_six_boards() {
     rig.silence(&[0x03, 0x03, 0x00]);
 
     // Link lost: answered again after 1 s; the link-up cleared the master's exception.
+    let passes: Vec<usize> = DS
+        .iter()
+        .map(|&addr| rig.slave(addr).writes_to(id::REGDS_DRIVE_REQSPEED).len())
+        .collect();
     rc.turn_off();
     rig.run_us(1_100_000);
     assert!(!rig.avr().pin(BLUE), "blue LED off with the link down");
     assert_eq!(rig.master_exception(), 0x0000);
+    // The drives stopped: REQSPEED 0 (0x7fff) once to each board, after the passes that
+    // ran until the link timed out; the steering left as it was.
+    for (&addr, &before) in DS.iter().zip(&passes) {
+        let speeds = rig.slave(addr).writes_to(id::REGDS_DRIVE_REQSPEED);
+        let stops: Vec<_> = speeds.iter().filter(|v| **v == [0xff, 0x7f]).collect();
+        assert_eq!(
+            stops.len(),
+            1,
+            "one stop on {addr}: {:02x?}",
+            &speeds[before..]
+        );
+        assert_eq!(last(&rig, addr, id::REGDS_DRIVE_REQSPEED), 0x7fff, "{addr}");
+        assert!(
+            speeds.len() > before,
+            "{addr}: passes until the timeout, then the stop"
+        );
+    }
+    assert_eq!(
+        last(&rig, 1, id::REGDS_STEER_REQPOS),
+        0x9332,
+        "wheel 1 still +30°"
+    );
+    // And no demand more once down (the pings go on).
+    let demands = |rig: &Rig| {
+        let s = rig.slave(1);
+        s.writes_to(id::REGDS_DRIVE_REQSPEED).len() + s.writes_to(id::REGDS_STEER_REQPOS).len()
+    };
+    let before = demands(&rig);
+    rig.run_us(500_000);
+    assert_eq!(demands(&rig), before, "no demand with the link down");
     rig.rc = Some(rc);
 }

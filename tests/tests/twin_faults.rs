@@ -212,6 +212,26 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
     );
     // While the link is up, PC frames are swallowed with no reply.
     assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_err());
+    // The transmitter goes off: 1 s later the link is down and the master stops the
+    // drives (new: the original kept them at the last speed); they coast down.
+    s.twin.borrow_mut().set_rc(false);
+    let mut waited = 0.0;
+    while physical_speeds(&s).iter().any(|v| v.abs() >= 50.0) {
+        assert!(
+            waited < 8.0,
+            "still driving {waited:.1} s after the link went: {:?}",
+            physical_speeds(&s)
+        );
+        s.pass(0.1);
+        waited += 0.1;
+    }
+    assert!(
+        waited > 1.0,
+        "stopped before the link timed out: {waited:.1} s"
+    );
+    println!("RC transmitter off: every wheel below 50 ticks/s {waited:.1} s later");
+    // And the PC is answered again.
+    assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_ok());
 }
 
 /// Whether every slave has both PWM outputs at duty 0, read from the chips' timers.

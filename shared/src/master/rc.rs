@@ -136,7 +136,23 @@ pub struct Remote {
     /// The low 16 bits of the ms clock at the last edge.
     last_edge_ms: Option<u16>,
     linked_before: bool,
+    /// The link was up at the last [`Remote::link_state`].
+    was_up: bool,
     steer_udeg: i32,
+}
+
+/// The link as the firmware's pass sees it (see [`Remote::link_state`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LinkState {
+    /// An edge was seen less than 1 s ago.
+    pub up: bool,
+    /// Up for the first time since boot: the link-up writes are due.
+    pub first: bool,
+    /// Down, and up at the previous look: one more pass is due, which stops the drives
+    /// (new; the original left them on the last pass's speed, a runaway with the
+    /// transmitter out of range or switched off). The loss forgets the drive and steer
+    /// channels' pulses, so that pass has REQSPEED 0 and leaves the steering as it was.
+    pub lost: bool,
 }
 
 impl Remote {
@@ -146,6 +162,7 @@ impl Remote {
             widths: [None; CHANNELS],
             last_edge_ms: None,
             linked_before: false,
+            was_up: false,
             steer_udeg: 0,
         }
     }
@@ -198,13 +215,20 @@ impl Remote {
         true
     }
 
-    /// [`Remote::link_up`] and [`Remote::first_link_up`] from one look at the link, as
-    /// the firmware's pass needs both: (up, first time up).
-    pub fn link_state(&mut self, now_ms: u32) -> (bool, bool) {
+    /// [`Remote::link_up`], [`Remote::first_link_up`] and whether the link was lost
+    /// since the previous call, from one look at the link, as the firmware's pass needs
+    /// all three. A loss centres the drive and steer channels (see [`LinkState::lost`]).
+    pub fn link_state(&mut self, now_ms: u32) -> LinkState {
         let up = self.link_up(now_ms);
         let first = up && !self.linked_before;
+        let lost = self.was_up && !up;
+        if lost {
+            self.widths[0] = None;
+            self.widths[1] = None;
+        }
         self.linked_before |= up;
-        (up, first)
+        self.was_up = up;
+        LinkState { up, first, lost }
     }
 
     /// Whether a complete PC frame is swallowed with no reply (the link is up).
@@ -258,9 +282,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn link_state_is_link_up_and_first_link_up_in_one() {
+    fn link_state_is_link_up_first_link_up_and_loss_in_one() {
         let (mut one, mut two) = (Remote::new(), Remote::new());
-        let mut seen = [(false, false); 6];
+        let mut seen = [LinkState::default(); 6];
         let steps = [
             (None, 5),
             (Some(10), 20),
@@ -276,21 +300,46 @@ mod tests {
             }
             *state = one.link_state(now);
             let first = two.first_link_up(now);
-            assert_eq!(*state, (two.link_up(now), first), "{now}");
+            assert_eq!((state.up, state.first), (two.link_up(now), first), "{now}");
         }
-        let up_first = [(false, false), (true, true), (true, false)];
-        let down = (false, false);
+        let state = |up, first, lost| LinkState { up, first, lost };
         assert_eq!(
             seen,
             [
-                up_first[0],
-                up_first[1],
-                up_first[2],
-                down,
-                up_first[2],
-                down
+                state(false, false, false),
+                state(true, true, false),
+                state(true, false, false),
+                // 1 s without an edge: lost once, then just down.
+                state(false, false, true),
+                state(true, false, false),
+                state(false, false, true),
             ]
         );
+        // Down stays down without a second loss.
+        assert_eq!(one.link_state(4000), state(false, false, false));
+    }
+
+    #[test]
+    fn the_pass_after_a_loss_stops_the_drives_and_keeps_the_steering() {
+        let mut remote = Remote::new();
+        remote.edge(0);
+        remote.pulse(0, 1000); // full forward
+        remote.pulse(1, 940); // full turn
+        remote.pulse(2, 1800); // crab mode
+        assert!(remote.link_state(10).up);
+        for _ in 0..100 {
+            remote.pass();
+        }
+        let driving = remote.pass();
+        assert_eq!((driving.drive, driving.crab), (1000, true));
+        let lost = remote.link_state(1_010);
+        assert!(lost.lost && !lost.up);
+        let stop = remote.pass();
+        assert_eq!(stop.drive, 0);
+        assert_eq!(stop.speed_raw(), 0x7fff, "REQSPEED 0");
+        assert_eq!((stop.steer, stop.crab), (0, true));
+        assert_eq!(stop.angles, driving.angles, "the steering as it was");
+        assert_eq!(remote.widths(), [None, None, Some(1800)]);
     }
 
     #[test]
