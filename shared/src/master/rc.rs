@@ -223,6 +223,8 @@ impl Remote {
         let first = up && !self.linked_before;
         let lost = self.was_up && !up;
         if lost {
+            // Channel 0 is the drive, 1 the steer; the mode (2) is kept, so crab mode
+            // keeps its angles.
             self.widths[0] = None;
             self.widths[1] = None;
         }
