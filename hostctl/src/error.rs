@@ -65,39 +65,21 @@ pub enum HostError {
     },
 
     /// The value is outside what the register can carry.
-    #[error(
-        "{value} is out of range for {register} on device {device}: allowed {min}..{max}{unit}"
-    )]
+    #[error("{value} is out of range for {}: allowed {}", .allowed.place(), .allowed.span())]
     OutOfRange {
         /// The value given.
         value: f32,
-        /// The register's name.
-        register: &'static str,
-        /// The device addressed.
-        device: u8,
-        /// Lowest allowed value.
-        min: f32,
-        /// Highest allowed value.
-        max: f32,
-        /// The unit, with a leading space, or empty.
-        unit: String,
+        /// What the register allows.
+        allowed: Allowed,
     },
 
     /// A fraction for a register that holds whole numbers (an unmapped one).
-    #[error("{value} is not a whole number, but {register} on device {device} holds whole numbers {min}..{max}{unit}; give one, e.g. {example}")]
+    #[error("{value} is not a whole number, but {} holds whole numbers {}; give one, e.g. {example}", .allowed.place(), .allowed.span())]
     NotWhole {
         /// The value given.
         value: f32,
-        /// The register's name.
-        register: &'static str,
-        /// The device addressed.
-        device: u8,
-        /// Lowest allowed value.
-        min: f32,
-        /// Highest allowed value.
-        max: f32,
-        /// The unit, with a leading space, or empty.
-        unit: String,
+        /// What the register allows.
+        allowed: Allowed,
         /// The value without its fraction.
         example: f32,
     },
@@ -394,5 +376,32 @@ fn open_hint(path: &str, source: &serialport::Error) -> String {
         )
     } else {
         format!("is the rover/twin running? is {path} right?")
+    }
+}
+
+/// The values a register on a device allows, for the range errors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Allowed {
+    /// The register's name.
+    pub register: &'static str,
+    /// The device addressed.
+    pub device: u8,
+    /// Lowest allowed value.
+    pub min: f32,
+    /// Highest allowed value.
+    pub max: f32,
+    /// The unit, with a leading space, or empty.
+    pub unit: String,
+}
+
+impl Allowed {
+    /// "REGISTER on device N".
+    fn place(&self) -> String {
+        format!("{} on device {}", self.register, self.device)
+    }
+
+    /// "MIN..MAX UNIT".
+    fn span(&self) -> String {
+        format!("{}..{}{}", self.min, self.max, self.unit)
     }
 }

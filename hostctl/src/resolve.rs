@@ -7,7 +7,7 @@ use shared::regs::{id, BoardKind, Register};
 use shared::slave::board::{Layout, Param};
 use shared::slave::{DriveMode, MotorId, Variant};
 
-use crate::error::HostError;
+use crate::error::{Allowed, HostError};
 use crate::suggest;
 
 /// The board kinds, for searching every table.
@@ -164,6 +164,20 @@ pub fn allowed(reg: &Register) -> (f32, f32) {
     }
 }
 
+impl Allowed {
+    /// What `reg` on `device` allows ([`allowed`], [`unit_suffix`]).
+    pub fn of(reg: &Register, device: u8) -> Allowed {
+        let (min, max) = allowed(reg);
+        Allowed {
+            register: reg.name,
+            device,
+            min,
+            max,
+            unit: unit_suffix(reg),
+        }
+    }
+}
+
 /// A register's unit with a leading space, or nothing.
 pub fn unit_suffix(reg: &Register) -> String {
     if reg.unit.is_empty() {
@@ -178,15 +192,15 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
     let value: f32 = text.trim().parse().map_err(|_| HostError::BadValue {
         given: text.to_owned(),
     })?;
-    let (min, max) = allowed(reg);
-    if !value.is_finite() || value < min || value > max || !mapping::in_range(value, reg) {
+    let bounds = Allowed::of(reg, target.device);
+    if !value.is_finite()
+        || value < bounds.min
+        || value > bounds.max
+        || !mapping::in_range(value, reg)
+    {
         return Err(HostError::OutOfRange {
             value,
-            register: reg.name,
-            device: target.device,
-            min,
-            max,
-            unit: unit_suffix(reg),
+            allowed: bounds,
         });
     }
     // An unmapped register is an integer (a bit field, a count): map() would drop the
@@ -194,11 +208,7 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
     if reg.range.is_none() && value.fract() != 0.0 {
         return Err(HostError::NotWhole {
             value,
-            register: reg.name,
-            device: target.device,
-            min,
-            max,
-            unit: unit_suffix(reg),
+            allowed: bounds,
             example: value.trunc(),
         });
     }

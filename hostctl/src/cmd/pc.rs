@@ -11,7 +11,7 @@ use shared::protocol::{self, Write};
 use shared::regs::{id, BoardKind};
 
 use super::Frame;
-use crate::error::HostError;
+use crate::error::{Allowed, HostError};
 
 /// The rover's wheels.
 pub const WHEELS: std::ops::RangeInclusive<u8> = 1..=6;
@@ -193,14 +193,9 @@ fn raw(kind: BoardKind, device: u8, reg: u8, value: f32) -> Result<Write, HostEr
                 reg,
             )))?;
     if !mapping::in_range(value, register) {
-        let (min, max) = crate::resolve::allowed(register);
         return Err(HostError::OutOfRange {
             value,
-            register: register.name,
-            device,
-            min,
-            max,
-            unit: crate::resolve::unit_suffix(register),
+            allowed: Allowed::of(register, device),
         });
     }
     Ok(Write {
