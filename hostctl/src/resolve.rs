@@ -384,10 +384,10 @@ mod tests {
             err.to_string(),
             "device 1 (DS table) has registers 0..47; there is no register 48"
         );
-        let err = register(device("0").unwrap(), "15").unwrap_err();
+        let err = register(device("0").unwrap(), "16").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "device 0 (MASTER table) has registers 0..14; there is no register 15"
+            "device 0 (MASTER table) has registers 0..15; there is no register 16"
         );
         assert!(matches!(
             register(ds(), "300"),

@@ -1,15 +1,16 @@
 //! The PC link as idle serves it: bytes from the receive queue into the parser, each
 //! complete frame executed and answered (or swallowed with no reply while the remote
-//! control's link is up, reference §9.2), slave accesses reported to the schedule, and
-//! the inter-byte timeout.
+//! control's link is up, reference §9.2), slave accesses reported to the schedule, the
+//! inter-byte timeout, and the opt-in PC-silence failsafe (REGMASTER_PCTIMEOUT).
 
 use crate::link::{now_ms, Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
 use crate::relay::Watched;
 use crate::traffic::Traffic;
-use shared::master::{InterByteTimeout, LinkError};
+use shared::exception::MasterException;
+use shared::master::{InterByteTimeout, LinkError, PcWatch};
 use shared::protocol::{Parser, ReadSets};
 
-/// The parser, the inter-byte timeout and the read sets.
+/// The parser, the inter-byte timeout, the read sets and when the PC was last heard.
 // In declaration order, the small per-byte state first, within a short displacement of
 // the link's address on the AVR (see `Parser`).
 #[repr(C)]
@@ -17,6 +18,7 @@ pub struct PcLink {
     timeout: InterByteTimeout,
     parser: Parser,
     sets: ReadSets,
+    watch: PcWatch,
 }
 
 impl PcLink {
@@ -26,12 +28,16 @@ impl PcLink {
             parser: Parser::new(),
             timeout: InterByteTimeout::new(),
             sets: ReadSets::new(),
+            watch: PcWatch::new(),
         }
     }
 
     /// Takes every event waiting in `rx` and acts on each frame it completes: executed
-    /// and answered through `tx`, or dropped without a reply when `swallow`. Then drops a
-    /// partial frame whose bytes stopped arriving. Returns whether any event was taken.
+    /// and answered through `tx`, or dropped without a reply when `swallow` (the remote
+    /// control has the link). Then drops a partial frame whose bytes stopped arriving, and
+    /// when nothing has come for REGMASTER_PCTIMEOUT ms (not 0, and not `swallow`), raises
+    /// PCSILENT and has the schedule spread it to every slave. Returns whether any event
+    /// was taken.
     #[inline(never)]
     pub fn drain(
         &mut self,
@@ -64,6 +70,14 @@ impl PcLink {
         let waiting = rx.lock(|q| !q.is_empty());
         if self.timeout.expired(u32::from(now), waiting) && self.parser.abort() {
             s.service.link_error(LinkError::Truncated);
+        }
+        // Any byte or serial error taken is the PC heard; the remote control's time counts
+        // as heard too (the PC is ignored then).
+        let timeout = s.service.local.pc_timeout_ms();
+        if self.watch.due(now, timeout, took || swallow) {
+            let latch = &mut s.service.local.exception;
+            s.schedule
+                .stop_everything(MasterException::PC_SILENT, latch);
         }
         took
     }

@@ -59,7 +59,8 @@ pub fn generate_markdown(def: &Definition) -> String {
     let _ = writeln!(
         out,
         "- **Size**: bytes on the wire, little-endian. **W**: `W` means the master forwards \
-         writes; writes to `R` registers are dropped."
+         writes; a write frame naming an `R` register is refused whole (error reply 0x89, \
+         docs/protocol.md)."
     );
     let _ = writeln!(
         out,

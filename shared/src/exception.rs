@@ -28,6 +28,9 @@ pub enum ExceptionType {
     /// Slave: armed by a ping, it heard no bus transaction for BUSTIMEOUT ms (the master
     /// or the cable is gone); new in this project, motor 5 (none).
     BusSilent = 12,
+    /// Master: armed by REGMASTER_PCTIMEOUT, it heard nothing from the PC for that many
+    /// ms (the PC program hung or the cable is gone); new in this project, slave 0, motor 0.
+    PcSilent = 13,
 }
 
 impl ExceptionType {
@@ -51,6 +54,7 @@ impl ExceptionType {
             10 => SensorMissing,
             11 => SlaveSilent,
             12 => BusSilent,
+            13 => PcSilent,
             _ => return None,
         })
     }
@@ -70,6 +74,7 @@ impl ExceptionType {
             SensorMissing => "temperature sensor missing",
             SlaveSilent => "slave not answering",
             BusSilent => "master silent (slave heard no bus traffic)",
+            PcSilent => "PC silent (master heard nothing for REGMASTER_PCTIMEOUT ms)",
         }
     }
 
@@ -95,6 +100,13 @@ impl MasterException {
     /// The state the master boots in.
     pub const BOOT: MasterException = MasterException {
         kind: ExceptionType::Boot,
+        slave: 0,
+        motor: 0,
+    };
+
+    /// The PC-silence failsafe's exception (REGMASTER_PCTIMEOUT): slave 0, motor 0.
+    pub const PC_SILENT: MasterException = MasterException {
+        kind: ExceptionType::PcSilent,
         slave: 0,
         motor: 0,
     };
@@ -202,6 +214,8 @@ mod tests {
         assert!(ExceptionType::ShortOc.spreads());
         assert_eq!(ExceptionType::from_code(12), Some(ExceptionType::BusSilent));
         assert!(ExceptionType::BusSilent.spreads());
-        assert_eq!(ExceptionType::from_code(13), None);
+        assert_eq!(ExceptionType::from_code(13), Some(ExceptionType::PcSilent));
+        assert_eq!(MasterException::PC_SILENT.data(), 0x000d);
+        assert_eq!(ExceptionType::from_code(14), None);
     }
 }

@@ -6,11 +6,12 @@
 //!
 //! Also the master's other decisions: the schedule of slave traffic (boot resets, ping,
 //! exception spreading, silent-slave detection) in [`ping`], the temperature sensors in
-//! [`temperature`], remote control in [`rc`] and the PC link's inter-byte timeout in
-//! [`timeout`]; the interrupt queues' FIFO in [`ring`].
+//! [`temperature`], remote control in [`rc`], the PC link's inter-byte timeout in [`timeout`]
+//! and its opt-in silence failsafe in [`pc_watch`]; the interrupt queues' FIFO in [`ring`].
 
 mod error;
 mod local;
+pub mod pc_watch;
 pub mod ping;
 pub mod rc;
 pub mod ring;
@@ -20,6 +21,7 @@ pub mod timeout;
 
 pub use error::{LinkError, ERROR_REPLY_FLAG};
 pub use local::LocalRegisters;
+pub use pc_watch::PcWatch;
 pub use ping::{Action, Outcome, RegWrite, Schedule};
 pub use rc::Remote;
 pub use ring::Ring;

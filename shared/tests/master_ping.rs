@@ -308,6 +308,45 @@ fn a_master_side_exception_spreads_to_all_nine() {
 }
 
 #[test]
+fn stopping_everything_raises_pc_silent_and_spreads_to_all_nine() {
+    let (mut s, mut latch, mut rover) = booted();
+    rover.run(&mut s, &mut latch, 7_000_000);
+    s.stop_everything(MasterException::PC_SILENT, &mut latch);
+    assert_eq!(latch.data(), 0x000d);
+    let from = rover.now_us;
+    let now = rover.now_ms();
+    s.run(now, &mut latch, |a| rover.perform(a));
+    let actions = rover.actions_between(from, rover.now_us);
+    // Before anything else due, each slave once.
+    assert_eq!(spread_targets(&actions[..9]), [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    assert_eq!(spread_targets(&actions).len(), 9);
+}
+
+#[test]
+fn stopping_everything_spreads_even_while_the_master_is_in_exception() {
+    // From boot until the PC resets it, the master is in its boot exception, which
+    // refuses every other: the spread must not depend on the latch.
+    let mut s = Schedule::new();
+    let mut latch = MasterLatch::boot();
+    let mut rover = Rover::new();
+    rover.run(&mut s, &mut latch, 7_000_000);
+    s.stop_everything(MasterException::PC_SILENT, &mut latch);
+    assert_eq!(
+        latch,
+        MasterLatch::boot(),
+        "the boot exception stays latched"
+    );
+    let from = rover.now_us;
+    let now = rover.now_ms();
+    s.run(now, &mut latch, |a| rover.perform(a));
+    let actions = rover.actions_between(from, rover.now_us);
+    assert_eq!(spread_targets(&actions), [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    for d in 1..=9 {
+        assert_eq!(rover.slaves[d].status & 1, 1, "slave {d} in exception");
+    }
+}
+
+#[test]
 fn while_the_master_is_in_exception_slave_exceptions_are_neither_recorded_nor_spread() {
     let mut s = Schedule::new();
     let mut latch = MasterLatch::boot();

@@ -69,12 +69,12 @@ fn unknown_commands() {
 
 #[test]
 fn write_to_an_id_the_table_does_not_have() {
-    // DS has ids 0..47, LL 0..46, the master 0..14 (ids past 44 on the slaves and 12-14
+    // DS has ids 0..47, LL 0..46, the master 0..15 (ids past 44 on the slaves and 12-15
     // on the master are this project's additions).
     assert_rejected(&[0x05, 0x12, 0x01, 0x30, 0x00], FrameError::UnknownRegister);
     assert_rejected(&[0x05, 0x32, 0x01, 0x2f, 0x00], FrameError::UnknownRegister);
     assert_rejected(&[0x05, 0x32, 0x01, 0xff, 0x00], FrameError::UnknownRegister);
-    assert_rejected(&[0x05, 0x02, 0x01, 0x0f, 0x01], FrameError::UnknownRegister);
+    assert_rejected(&[0x05, 0x02, 0x01, 0x10, 0x01], FrameError::UnknownRegister);
     // Unknown after a good write: still the whole frame is rejected.
     assert_rejected(
         &[0x08, 0x12, 0x02, 0x09, 0xff, 0x7f, 0x30, 0x00],

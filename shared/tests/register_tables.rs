@@ -115,10 +115,11 @@ const LL_MOTOR: [Motor; 18] = [
 
 const TEMP: Option<(f32, f32)> = Some((-20.0, 100.0));
 /// Registers this project adds after the original master table (docs/protocol.md).
-const MASTER_ADDED: [Expect; 3] = [
+const MASTER_ADDED: [Expect; 4] = [
     (12, "REGMASTER_LASTERROR", 1, R, NONE),
     (13, "REGMASTER_ERRORCOUNT", 2, R, NONE),
     (14, "REGMASTER_TEMPSREAD", 2, R, NONE),
+    (15, "REGMASTER_PCTIMEOUT", 2, W, NONE),
 ];
 
 /// Registers this project adds after the original DS table (stall/fault timing, drive mode,

@@ -2,7 +2,8 @@
 //! fault on the master and every motor stops; a slave cut off the bus is detected within the
 //! master's bound and, its bus-silence failsafe armed by the master's pings, stops its own
 //! wheel after BUSTIMEOUT; a current spike raises a short; an unplugged temperature sensor raises
-//! type 10; the RC receiver takes over the drives.
+//! type 10; the RC receiver takes over the drives; a PC program that armed the PC-silence
+//! failsafe and then hangs gets every motor stopped.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -232,6 +233,46 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
     println!("RC transmitter off: every wheel below 50 ticks/s {waited:.1} s later");
     // And the PC is answered again.
     assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_ok());
+}
+
+#[test]
+fn a_pc_program_that_armed_the_silence_failsafe_and_hangs_gets_every_motor_stopped() {
+    let mut s = driving();
+    // REGMASTER_PCTIMEOUT = 500 ms, then the program polls as usual for a while: the
+    // rover keeps driving.
+    s.write_raw(&[0x06, 0x02, 0x01, id::REGMASTER_PCTIMEOUT, 0xf4, 0x01]);
+    let (_, snap, _) = s.until(2.0, |_| false);
+    assert!((1..=6).all(|w| drive_speed(&snap, w) > 500.0), "{snap:?}");
+    assert_eq!(master_exception(&snap), 0);
+    // The program hangs with the port open: nothing more is sent.
+    let mut waited_ms = 0;
+    while !every_motor_stopped(&s) {
+        assert!(
+            waited_ms < 1000,
+            "motors still driven {waited_ms} ms into the silence"
+        );
+        s.pass(0.01);
+        waited_ms += 10;
+    }
+    assert!(
+        waited_ms >= 500,
+        "stopped before the timeout: {waited_ms} ms"
+    );
+    println!("PC silent: every motor's PWM at 0 after {waited_ms} ms (timeout 500 ms)");
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
+    // When the program comes back it finds why: PCSILENT on the master, every slave in
+    // REMOTESLAVE.
+    let snap = s.update();
+    assert_eq!(split(master_exception(&snap)), (13, 0, 0));
+    assert!(
+        (1..=9u8).all(|n| slave_exception(&snap, n) == Some(3)),
+        "{snap:?}"
+    );
 }
 
 /// Whether every slave has both PWM outputs at duty 0, read from the chips' timers.

@@ -7,12 +7,13 @@ use crate::regs::id;
 /// Raw value of 0.0 °C over -20..100, what a sensor that was never read shows.
 const ZERO_CELSIUS_RAW: u16 = 0x2aaa;
 
-/// Registers of device 0 (ids 0..=14).
-const REGISTERS: usize = id::REGMASTER_TEMPSREAD as usize + 1;
+/// Registers of device 0 (ids 0..=15).
+const REGISTERS: usize = id::REGMASTER_PCTIMEOUT as usize + 1;
 /// Where `values` keeps each of the new registers.
 const LAST_ERROR: usize = id::REGMASTER_LASTERROR as usize;
 const ERROR_COUNT: usize = id::REGMASTER_ERRORCOUNT as usize;
 const TEMPS_READ: usize = id::REGMASTER_TEMPSREAD as usize;
+const PC_TIMEOUT: usize = id::REGMASTER_PCTIMEOUT as usize;
 
 /// The master-local registers and the state behind them.
 #[derive(Clone, Debug)]
@@ -22,12 +23,12 @@ pub struct LocalRegisters {
     /// The stored registers' raw values, index = id: 0 for REGMASTER_RESET (write-only
     /// in effect), the raw (mapped) temperatures (ambient, then controllers 1..9), an
     /// unused slot for REGMASTER_EXCEPTIONDATA (read from the latch), the last error's
-    /// code, the error count and the sensors read. One array, so a read is one indexed
-    /// load.
+    /// code, the error count, the sensors read and the PC-silence timeout. One array, so
+    /// a read is one indexed load.
     values: [u16; REGISTERS],
 }
 
-/// The values at boot: temperatures 0.0 °C, no errors.
+/// The values at boot: temperatures 0.0 °C, no errors, the PC-silence failsafe off.
 const BOOT_VALUES: [u16; REGISTERS] = {
     let mut out = [0; REGISTERS];
     let mut i = id::REGMASTER_TEMPAMBIENT as usize;
@@ -45,7 +46,8 @@ impl Default for LocalRegisters {
 }
 
 impl LocalRegisters {
-    /// The state at boot: in the boot exception, temperatures 0.0 °C, no errors.
+    /// The state at boot: in the boot exception, temperatures 0.0 °C, no errors, the
+    /// PC-silence failsafe off.
     pub const fn new() -> Self {
         LocalRegisters {
             exception: MasterLatch::boot(),
@@ -64,11 +66,19 @@ impl LocalRegisters {
     }
 
     /// Applies a write of `raw` to register `reg`, which the caller checked is writable.
-    pub fn write(&mut self, reg: u8, _raw: u16) {
+    pub fn write(&mut self, reg: u8, raw: u16) {
         if reg == id::REGMASTER_RESET {
             // Any value clears the master exception (reference §2.4).
             self.exception.clear();
+        } else if reg == id::REGMASTER_PCTIMEOUT {
+            self.values[PC_TIMEOUT] = raw;
         }
+    }
+
+    /// The PC-silence timeout in ms, 0 when off (REGMASTER_PCTIMEOUT, see
+    /// [`PcWatch`](super::PcWatch)).
+    pub fn pc_timeout_ms(&self) -> u16 {
+        self.values[PC_TIMEOUT]
     }
 
     /// Stores raw temperature `raw` of sensor `index` (0 ambient, then controllers 1..9)
@@ -135,12 +145,27 @@ mod tests {
         expected[13] = Some(2);
         // Sensors 0 and 9 read; the out-of-range index 10 marks nothing.
         expected[14] = Some(0b10_0000_0001);
-        expected[15] = None;
+        expected[15] = Some(0);
         for (reg, want) in (0..16u8).zip(expected) {
             assert_eq!(l.read(reg), want, "{reg}");
         }
+        assert_eq!(l.read(16), None);
         assert_eq!(l.read(255), None);
         assert_eq!(l.last_error(), Some(LinkError::BadDevice));
         assert_eq!(l.error_count(), 2);
+    }
+
+    #[test]
+    fn the_pc_timeout_is_off_at_boot_and_reads_as_written() {
+        let mut l = LocalRegisters::new();
+        assert_eq!(l.pc_timeout_ms(), 0);
+        l.write(id::REGMASTER_PCTIMEOUT, 500);
+        assert_eq!(l.pc_timeout_ms(), 500);
+        assert_eq!(l.read(id::REGMASTER_PCTIMEOUT), Some(500));
+        // Clearing the exception leaves it.
+        l.write(id::REGMASTER_RESET, 1);
+        assert_eq!(l.pc_timeout_ms(), 500);
+        l.write(id::REGMASTER_PCTIMEOUT, 0);
+        assert_eq!(l.pc_timeout_ms(), 0);
     }
 }

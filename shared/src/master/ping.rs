@@ -10,9 +10,11 @@
 //! # What it does, in priority order
 //! 1. **Spreading.** When an exception is latched, REG_EXCEPTIONDATA = 100 (`05 64 00`) is
 //!    written to every slave 1..9 except the one it came from (all nine for a master-side
-//!    type), before anything else.
+//!    type), before anything else. [`Schedule::stop_everything`] (new: the PC-silence
+//!    failsafe) spreads to all nine even while the master is already in exception.
 //! 2. **Boot.** REG_RESET = 2 (`00 02`) to slaves 1..9, once. The firmware holds its 1-s
-//!    watchdog until [`Schedule::booted`], then switches to 120 ms.
+//!    watchdog until [`Schedule::booted`], then switches to 125 ms (the watchdog's step
+//!    nearest the original's 120 ms).
 //! 3. From 5 s after boot (the slaves' reboot time):
 //!    - **Ping**, when more than 1000 ms have passed since the last one: for slaves 1..9 in
 //!      order, write REG_PING = 0 (`07 00`), read REG_STATUS and, if its bit 0 is set, read
@@ -41,8 +43,8 @@
 //! = 16 ms whenever the loop polls, so a slave that stops answering is found at most
 //! L + B + 8·R + 2·T after its last answer, where B is the longest time the firmware spends
 //! between two polls (one PC frame, up to ~15 ms for a 24-register read, or one
-//! temperature tick, ~16 ms of OneWire), R ≈ 0.65 ms is one status read at 100 kHz (up to
-//! eight other stale slaves may be checked first) and T is the I2C driver's timeout (a
+//! temperature tick, ~16 ms of OneWire), R ≈ 0.65 ms is one status read at 100 kHz (less
+//! at the firmware's 400 kHz; up to eight other stale slaves may be checked first) and T is the I2C driver's timeout (a
 //! missing ACK costs ~0.1 ms; 1 ms assumed), paid for the failed read and the re-check.
 //! The spread is then 8 writes of ~0.4 ms. With B = 16 ms: 16 + 16 + 5.2 + 2 + 3.2 ≈ 42 ms,
 //! leaving the slaves ≥ 8 ms of the 50-ms goal to act on the write. A firmware that also
@@ -197,7 +199,7 @@ impl Schedule {
     }
 
     /// Whether the boot resets have all been performed (the firmware then shortens its
-    /// watchdog to 120 ms).
+    /// watchdog to 125 ms).
     pub fn booted(&self) -> bool {
         self.boot_sent >= 9 && !matches!(self.in_flight, Some((_, Job::Boot, _)))
     }
@@ -287,6 +289,14 @@ impl Schedule {
         }
         self.spread = Spread::to_all_but(e.slave);
         true
+    }
+
+    /// Raises `e` on the master (latched unless one already is) and spreads to every
+    /// slave in any case, so that every motor stops even while the master is already in
+    /// exception (from boot until the PC resets it, for one): the PC-silence failsafe.
+    pub fn stop_everything(&mut self, e: MasterException, latch: &mut MasterLatch) {
+        latch.raise(e);
+        self.spread = Spread::to_all_but(0);
     }
 
     fn next_action(&mut self, now_ms: u32) -> Option<(Action, Job)> {

@@ -208,8 +208,8 @@ fn empty_set_and_missing_registers() {
     let (mut s, mut bus) = (Master::default(), FakeBus::default());
     assert_eq!(run(&mut s, &mut bus, &[0x03, 0x03, 0x05]), [0u8; 0]);
     assert_eq!(s.local.last_error(), Some(LinkError::EmptyReadSet));
-    // Set 6 = [EXCEPTIONDATA, 15 (no such register), LASTERROR].
-    assert_eq!(run(&mut s, &mut bus, &[0x06, 0x04, 0x06, 11, 15, 12]), [3]);
+    // Set 6 = [EXCEPTIONDATA, 16 (no such register), LASTERROR].
+    assert_eq!(run(&mut s, &mut bus, &[0x06, 0x04, 0x06, 11, 16, 12]), [3]);
     let reply = run(&mut s, &mut bus, &[0x03, 0x03, 0x06]);
     assert_eq!(reply, [0x02, 0x00, 0xcd, 11]);
     assert_eq!(s.local.last_error(), Some(LinkError::MissingRegister));

@@ -222,11 +222,16 @@ mod tests {
                 assert_eq!(writable(sizes, id), kind.is_writable(id), "{kind:?} {id}");
             }
         }
-        // Spot values: REG_RESET is a writable byte; the master has no id 15.
+        // Spot values: REG_RESET is a writable byte; the master's last id is 15, a
+        // writable word.
         let ds = Sizes::of(BoardKind::DriveSteer);
         assert_eq!((ds.size_of(0), writable(ds, 0)), (Some(1), Some(true)));
-        assert_eq!(Sizes::of(BoardKind::Master).size_of(14), Some(2));
-        assert_eq!(Sizes::of(BoardKind::Master).size_of(15), None);
+        let master = Sizes::of(BoardKind::Master);
+        assert_eq!(
+            (master.size_of(15), writable(master, 15)),
+            (Some(2), Some(true))
+        );
+        assert_eq!(master.size_of(16), None);
         assert_eq!(Sizes::of(BoardKind::LiftLift).size_of(47), None);
     }
 

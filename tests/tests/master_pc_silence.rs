@@ -1,0 +1,101 @@
+//! The PC-silence failsafe (new, opt-in, REGMASTER_PCTIMEOUT): off at boot; once the PC
+//! writes a timeout, a PC that sends nothing for that long gets every motor stopped (the
+//! master raises PCSILENT, type 13, and writes REG_EXCEPTIONDATA to all nine slaves), once,
+//! until the PC is heard again.
+
+mod master_support;
+
+use master_support::{transactions, Rig};
+use shared::regs::id;
+
+/// Writes REGMASTER_PCTIMEOUT = `ms` (device 0, one word).
+fn set_timeout(rig: &mut Rig, ms: u16) {
+    let [lo, hi] = ms.to_le_bytes();
+    let frame = [0x06, 0x02, 0x01, id::REGMASTER_PCTIMEOUT, lo, hi];
+    assert_eq!(rig.exchange(&frame, 1), [0x00]);
+}
+
+/// The slaves written REG_EXCEPTIONDATA = 100 (the spread) while tracing, sorted, and the
+/// end of the first such write (µs).
+fn spread_targets(rig: &mut Rig) -> (Vec<u8>, f64) {
+    let spread: Vec<_> = transactions(&rig.bus.take_trace())
+        .into_iter()
+        .filter(|t| !t.read && t.ack && t.bytes == [id::REG_EXCEPTIONDATA, 0x64, 0x00])
+        .collect();
+    let first = spread.iter().map(|t| t.start_us).fold(f64::MAX, f64::min);
+    let mut to: Vec<u8> = spread.iter().map(|t| t.addr).collect();
+    to.sort_unstable();
+    (to, first)
+}
+
+#[test]
+fn off_at_boot_so_a_silent_pc_stops_nothing() {
+    let mut rig = Rig::new();
+    rig.reset_master();
+    assert_eq!(rig.master_regs(&[id::REGMASTER_PCTIMEOUT], 2), [0, 0]);
+    rig.bus.set_tracing(true);
+    rig.bus.take_trace();
+    rig.run_us(3_000_000);
+    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    assert_eq!(rig.master_exception(), 0);
+}
+
+#[test]
+fn a_pc_silent_for_the_timeout_gets_every_motor_stopped_once() {
+    let mut rig = Rig::new();
+    rig.reset_master();
+    set_timeout(&mut rig, 300);
+    assert_eq!(rig.master_regs(&[id::REGMASTER_PCTIMEOUT], 2), [0x2c, 0x01]);
+    // Frames closer than the timeout keep it quiet.
+    rig.bus.set_tracing(true);
+    rig.bus.take_trace();
+    let mut sent = 0.0;
+    for _ in 0..10 {
+        rig.run_us(200_000);
+        sent = rig.micros() as f64;
+        assert_eq!(rig.exchange(&[0x03, 0x03, 0x07], 2).len(), 2);
+    }
+    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    // The master last heard the PC when the frame's third byte arrived.
+    let heard = sent + 3.0 * master_support::BYTE_US;
+    rig.run_us(1_000_000);
+    let (to, first) = spread_targets(&mut rig);
+    assert_eq!(
+        to,
+        [1, 2, 3, 4, 5, 6, 7, 8, 9],
+        "one spread write to each slave"
+    );
+    let after = (first - heard) / 1000.0;
+    println!("spread started {after:.1} ms after the PC was last heard");
+    // 300 ms on the master's 1-ms clock, plus its loop's latency.
+    assert!((299.0..305.0).contains(&after), "{after} ms");
+    for addr in 1..=9 {
+        assert!(rig.slave(addr).in_exception, "slave {addr}");
+    }
+    assert_eq!(rig.master_exception(), 0x000d, "PCSILENT, slave 0, motor 0");
+}
+
+#[test]
+fn the_failsafe_rearms_when_the_pc_is_heard_and_spreads_even_over_another_exception() {
+    let mut rig = Rig::new();
+    // The master stays in its boot exception (not reset): the spread must still go out.
+    set_timeout(&mut rig, 500);
+    rig.bus.set_tracing(true);
+    rig.bus.take_trace();
+    rig.run_us(1_500_000);
+    assert_eq!(spread_targets(&mut rig).0, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    // Once only while the PC stays silent.
+    rig.run_us(1_500_000);
+    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    // The boot exception stays: it was latched first.
+    assert_eq!(rig.master_exception(), 0x0002);
+    // That read was the PC heard: 500 ms later, again.
+    rig.bus.take_trace();
+    rig.run_us(1_000_000);
+    assert_eq!(spread_targets(&mut rig).0, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    // Writing 0 turns it off.
+    set_timeout(&mut rig, 0);
+    rig.bus.take_trace();
+    rig.run_us(1_500_000);
+    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+}
