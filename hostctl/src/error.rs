@@ -186,7 +186,7 @@ pub enum HostError {
     },
 
     /// The twin could not be started or joined.
-    #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH`")]
+    #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH` and pass hostctl the same --port PATH")]
     Twin {
         /// What went wrong.
         why: String,
@@ -232,7 +232,7 @@ pub enum HostError {
     },
 
     /// The master reported a failed write.
-    #[error("device {device} refused the write to {register}: code {code} ({words})")]
+    #[error("device {device} refused the write to {register}: code {code:#04x} ({words}); {}", refusal_advice(*device, *code))]
     WriteRefused {
         /// The device addressed.
         device: u8,
@@ -326,9 +326,13 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
                  keeps happening"
             )
         } else {
+            // A controller that did not answer the master is recorded (NoAnswer): with
+            // nothing recorded since the master's boot, the reply was lost on the serial
+            // line, or the master rebooted meanwhile.
             format!(
-                "device {device} did not answer {late}, and the master reports no link error; \
-                 check the device number, reset the rover, or restart the twin"
+                "device {device} did not answer {late}, but the master answers now and reports \
+                 no link error since its boot: the reply was lost on the serial line or the \
+                 master rebooted meanwhile; retry, and check the cable if it keeps happening"
             )
         };
     };
@@ -364,6 +368,21 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
          error(s) since boot): {advice}",
         error.describe()
     )
+}
+
+/// The next step after the master refused a write with error reply `code` (0x80 | the
+/// link error's code).
+fn refusal_advice(device: u8, code: u8) -> String {
+    match LinkError::from_code(code & !shared::master::ERROR_REPLY_FLAG) {
+        Some(LinkError::NoAnswer) => format!(
+            "controller {device} is not answering the master on the I2C bus; check that it is \
+             fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
+             rover"
+        ),
+        _ => "the frame reached the master damaged or not as sent; retry, and reset the rover \
+              or restart the twin if it keeps happening"
+            .to_owned(),
+    }
 }
 
 /// The next step after a failed open. A port another program holds (its lock, or

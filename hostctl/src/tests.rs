@@ -98,9 +98,10 @@ fn a_write_that_nothing_will_act_on_says_so() {
         o.out,
         "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n\
          note: controller 1 is in exception (every controller is after the port opens, which \
-         reboots the rover): the value is stored, but nothing acts on it until the exception \
-         is reset, and the next hostctl command reboots the rover again. To see it act, put \
-         `reset` and this write in one script: `hostctl run FILE`.\n"
+         reboots the rover): the board keeps the register's value but acts on nothing until \
+         the exception is reset, a demand (REQSPEED, REQPOS) is replaced meanwhile, and the \
+         next hostctl command reboots the rover again. To see it act, put `calibrate`, \
+         `reset` and then this write in one script: `hostctl run FILE`.\n"
     );
     let o = hostctl("--json write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
     assert!(o.out.ends_with(",\"in_exception\":true}\n"), "{}", o.out);
@@ -163,6 +164,18 @@ fn write_lift_and_master_reset_send_the_reference_frames() {
         o.out,
         "device 0 REGMASTER_RESET = 1 (raw 0x01, arrives as 1)\n"
     );
+}
+
+#[test]
+fn the_pc_silence_timeout_is_written_as_a_master_word() {
+    let o = hostctl("write 0 pctimeout 500", &[[0x00]]);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["06 02 01 0f f4 01"]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_PCTIMEOUT = 500 ms (raw 0x01f4, arrives as 500 ms)\n"
+    );
+    assert!(refused("write 0 pctimeout 70000").contains("allowed 0..65535"));
 }
 
 #[test]
@@ -233,8 +246,10 @@ fn write_error_code_reply_is_put_in_words() {
     assert_eq!(o.port.frames_hex(), ["06 12 01 09 ff 7f"]);
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "device 1 refused the write to REGDS_DRIVE_REQSPEED: code 132 \
-         (write to a register id the device does not have)"
+        "device 1 refused the write to REGDS_DRIVE_REQSPEED: code 0x84 \
+         (write to a register id the device does not have); the frame reached the master \
+         damaged or not as sent; retry, and reset the rover or restart the twin if it keeps \
+         happening"
     );
     assert!(o.out.is_empty());
 
@@ -303,14 +318,16 @@ fn a_timeout_names_the_cause_the_master_reports() {
          not answering the master on the I2C bus; check that it is fitted and powered (on the \
          twin: `twin inject restore 4`), then reset the rover"
     );
-    // No link error: the device is the one to check.
+    // No link error: the controller answered the master, so the reply was lost on the
+    // way back (or the master rebooted).
     assert_eq!(
         err(
             "write 2 DRIVE_REQSPEED 0",
             &[&[], &[0x02], &[0x00, 0x00, 0x00]]
         ),
-        "device 2 did not answer within 1 s (0 of 1 reply bytes), and the master reports no \
-         link error; check the device number, reset the rover, or restart the twin"
+        "device 2 did not answer within 1 s (0 of 1 reply bytes), but the master answers now \
+         and reports no link error since its boot: the reply was lost on the serial line or \
+         the master rebooted meanwhile; retry, and check the cable if it keeps happening"
     );
     // The master's own reply cut short, then nothing wrong on its side: lost on the way back.
     assert_eq!(

@@ -74,8 +74,9 @@ pub fn waits_for_reset(reg: &Register) -> bool {
 pub fn stored_only(device: u8) -> String {
     format!(
         "note: controller {device} is in exception (every controller is after the port opens, \
-         which reboots the rover): the value is stored, but nothing acts on it until the \
-         exception is reset, and the next hostctl command reboots the rover again. To see it \
-         act, put `reset` and this write in one script: `hostctl run FILE`."
+         which reboots the rover): the board keeps the register's value but acts on nothing \
+         until the exception is reset, a demand (REQSPEED, REQPOS) is replaced meanwhile, and \
+         the next hostctl command reboots the rover again. To see it act, put `calibrate`, \
+         `reset` and then this write in one script: `hostctl run FILE`."
     )
 }

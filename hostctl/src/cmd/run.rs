@@ -644,7 +644,7 @@ mod tests {
         replies.push(vec![0x8c]);
         let err = run_script("reset\n", &replies, false).result.unwrap_err();
         assert!(
-            err.to_string().starts_with("t.rover line 1 (`reset`) failed: device 1 refused the write to REG_RESET: code 140"),
+            err.to_string().starts_with("t.rover line 1 (`reset`) failed: device 1 refused the write to REG_RESET: code 0x8c (a slave did not answer on the I2C bus); controller 1 is not answering the master on the I2C bus"),
             "{err}"
         );
     }

@@ -120,9 +120,10 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
 
 /// What a script that is valid line by line still leaves out, in words: demands with no
 /// `reset` line (every board is in its boot exception after the port opens, so nothing
-/// acts on a demand until a reset), or with no `calibrate` line (the gains stay 0, so
-/// nothing moves). A demand sent before the reset or the calibration is kept by the board
-/// and acts after it, so only their absence is noted.
+/// acts on a demand until a reset), a demand before the first `reset` (a board in
+/// exception replaces its demands, reference §6.4: that one is lost), or demands with no
+/// `calibrate` line (the gains stay 0, so nothing moves). A demand before the calibration
+/// but after the reset is kept and acts once the gains arrive.
 pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> &str {
         l.text.split_whitespace().next().unwrap_or("")
@@ -135,12 +136,19 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
     };
     let has = |word: &str| lines.iter().any(|l| first_word(l) == word);
     let mut notes = Vec::new();
-    if !has("reset") {
-        notes.push(format!(
+    match lines.iter().find(|l| first_word(l) == "reset") {
+        None => notes.push(format!(
             "line {} sends a demand, but no line is `reset`: after the port opens every board \
              is in its boot exception, so nothing will move",
             demand.number
-        ));
+        )),
+        Some(reset) if reset.number > demand.number => notes.push(format!(
+            "line {} sends a demand before the first `reset` (line {}): a board in exception \
+             replaces its demands (a drive's with 0, a steer's or lift's with its angle), so \
+             this one is lost; send it after the reset",
+            demand.number, reset.number
+        )),
+        Some(_) => {}
     }
     if !has("calibrate") {
         notes.push(format!(
@@ -369,8 +377,18 @@ mod tests {
             ]
         );
         assert_eq!(notes("reset\nturn 10").len(), 1);
-        // A demand before the reset and the calibration is kept and acts after them.
-        assert!(notes("drive 1 100\ncalibrate\nreset\nwait 1").is_empty());
+        // A demand before the reset is replaced by the board: lost.
+        assert_eq!(
+            notes("drive 1 100\ncalibrate\nreset\nwait 1"),
+            [
+                "line 1 sends a demand before the first `reset` (line 3): a board in exception \
+              replaces its demands (a drive's with 0, a steer's or lift's with its angle), so \
+              this one is lost; send it after the reset"
+            ]
+        );
+        // After the reset and before the calibration it is kept and acts once the gains
+        // arrive.
+        assert!(notes("reset\ndrive 1 100\ncalibrate\nwait 1").is_empty());
         // No demand, nothing to note.
         assert!(notes("calibrate\nwait 1").is_empty());
     }
@@ -454,6 +472,8 @@ mod tests {
         );
         assert!(refusal("drive 1 5000").contains("5000 is out of range for REGDS_DRIVE_REQSPEED"));
         assert!(refusal("write 0 TEMP1 3").contains("read-only"));
+        // The PC-silence failsafe is armed from a script like any master register.
+        assert!(parse("s", "write 0 pctimeout 500").is_ok());
         assert!(refusal("wait -1").contains("usage: wait SECONDS"));
     }
 
