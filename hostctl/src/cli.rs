@@ -75,7 +75,8 @@ pub enum Command {
     /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
     /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait|watch SECONDS (with a
     /// live view of required against actual per wheel), show DEV REG… (adds registers,
-    /// e.g. CONTROL, ERROR, INTERVALCTRL, to every later view), say TEXT. A comment starts at a
+    /// e.g. `show 1 drive_control drive_error`, to every later view), say TEXT. A comment
+    /// starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
     /// sent. drive, steer, lift and turn are checked against the library's limits (steer
