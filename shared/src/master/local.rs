@@ -66,6 +66,8 @@ impl LocalRegisters {
     }
 
     /// Applies a write of `raw` to register `reg`, which the caller checked is writable.
+    // Out of line: the frame logic and the remote control's setup both write (one copy).
+    #[inline(never)]
     pub fn write(&mut self, reg: u8, raw: u16) {
         if reg == id::REGMASTER_RESET {
             // Any value clears the master exception (reference §2.4).
