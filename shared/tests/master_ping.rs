@@ -119,6 +119,14 @@ impl Rover {
         }
     }
 
+    /// Performs everything due now, as one poll loop of the firmware, and returns it.
+    fn run_now(&mut self, s: &mut Schedule, latch: &mut MasterLatch) -> Vec<Action> {
+        let from = self.now_us;
+        let now = self.now_ms();
+        s.run(now, latch, |a| self.perform(a));
+        self.actions_between(from, self.now_us)
+    }
+
     fn actions_between(&self, from_us: u64, to_us: u64) -> Vec<Action> {
         self.log
             .iter()
@@ -297,11 +305,8 @@ fn a_master_side_exception_spreads_to_all_nine() {
     };
     assert!(s.raise(missing, &mut latch));
     assert_eq!(latch.data(), 0x000a);
-    let from = rover.now_us;
-    let now = rover.now_ms();
-    s.run(now, &mut latch, |a| rover.perform(a));
     assert_eq!(
-        spread_targets(&rover.actions_between(from, rover.now_us)),
+        spread_targets(&rover.run_now(&mut s, &mut latch)),
         [1, 2, 3, 4, 5, 6, 7, 8, 9]
     );
     assert!(!s.raise(missing, &mut latch), "only the first is latched");
@@ -313,10 +318,7 @@ fn stopping_everything_raises_pc_silent_and_spreads_to_all_nine() {
     rover.run(&mut s, &mut latch, 7_000_000);
     s.stop_everything(MasterException::PC_SILENT, &mut latch);
     assert_eq!(latch.data(), 0x000d);
-    let from = rover.now_us;
-    let now = rover.now_ms();
-    s.run(now, &mut latch, |a| rover.perform(a));
-    let actions = rover.actions_between(from, rover.now_us);
+    let actions = rover.run_now(&mut s, &mut latch);
     // Before anything else due, each slave once.
     assert_eq!(spread_targets(&actions[..9]), [1, 2, 3, 4, 5, 6, 7, 8, 9]);
     assert_eq!(spread_targets(&actions).len(), 9);
@@ -336,10 +338,7 @@ fn stopping_everything_spreads_even_while_the_master_is_in_exception() {
         MasterLatch::boot(),
         "the boot exception stays latched"
     );
-    let from = rover.now_us;
-    let now = rover.now_ms();
-    s.run(now, &mut latch, |a| rover.perform(a));
-    let actions = rover.actions_between(from, rover.now_us);
+    let actions = rover.run_now(&mut s, &mut latch);
     assert_eq!(spread_targets(&actions), [1, 2, 3, 4, 5, 6, 7, 8, 9]);
     for d in 1..=9 {
         assert_eq!(rover.slaves[d].status & 1, 1, "slave {d} in exception");
