@@ -161,6 +161,15 @@ fn booted() -> (Schedule, MasterLatch, Rover) {
     booted_with(Rover::new())
 }
 
+/// A rover run to `until_us` whose master the PC never reset: still in its boot exception.
+fn never_reset(until_us: u64) -> (Schedule, MasterLatch, Rover) {
+    let mut s = Schedule::new();
+    let mut latch = MasterLatch::boot();
+    let mut rover = Rover::new();
+    rover.run(&mut s, &mut latch, until_us);
+    (s, latch, rover)
+}
+
 /// [`booted`] with a rover set up before the boot (e.g. with absent slaves).
 fn booted_with(mut rover: Rover) -> (Schedule, MasterLatch, Rover) {
     let mut s = Schedule::new();
@@ -328,10 +337,7 @@ fn stopping_everything_raises_pc_silent_and_spreads_to_all_nine() {
 fn stopping_everything_spreads_even_while_the_master_is_in_exception() {
     // From boot until the PC resets it, the master is in its boot exception, which
     // refuses every other: the spread must not depend on the latch.
-    let mut s = Schedule::new();
-    let mut latch = MasterLatch::boot();
-    let mut rover = Rover::new();
-    rover.run(&mut s, &mut latch, 7_000_000);
+    let (mut s, mut latch, mut rover) = never_reset(7_000_000);
     s.stop_everything(MasterException::PC_SILENT, &mut latch);
     assert_eq!(
         latch,
@@ -603,10 +609,7 @@ fn with_pc_frames_blocking_the_loop_the_bound_still_holds() {
 
 #[test]
 fn a_silent_slave_is_raised_again_after_a_master_reset_and_forgotten_when_it_answers() {
-    let mut s = Schedule::new();
-    let mut latch = MasterLatch::boot();
-    let mut rover = Rover::new();
-    rover.run(&mut s, &mut latch, 5_600_000);
+    let (mut s, mut latch, mut rover) = never_reset(5_600_000);
     rover.slaves[6].answering = false;
     rover.run(&mut s, &mut latch, 5_700_000);
     assert_eq!(latch, MasterLatch::boot(), "masked by the boot exception");
