@@ -173,7 +173,16 @@ fn the_pc_silence_timeout_is_written_as_a_master_word() {
     assert_eq!(o.port.frames_hex(), ["06 02 01 0f f4 01"]);
     assert_eq!(
         o.out,
-        "device 0 REGMASTER_PCTIMEOUT = 500 ms (raw 0x01f4, arrives as 500 ms)\n"
+        "device 0 REGMASTER_PCTIMEOUT = 500 ms (raw 0x01f4, arrives as 500 ms)\n\
+         note: armed only until the master's next boot, and the next hostctl command reboots \
+         it by opening the port; for a session that should stop the rover when it stops \
+         talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.\n"
+    );
+    // Turning it off needs no note.
+    let o = hostctl("write 0 pctimeout 0", &[[0x00]]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_PCTIMEOUT = 0 ms (raw 0x0000, arrives as 0 ms)\n"
     );
     assert!(refused("write 0 pctimeout 70000").contains("allowed 0..65535"));
 }

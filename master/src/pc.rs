@@ -35,9 +35,9 @@ impl PcLink {
     /// Takes every event waiting in `rx` and acts on each frame it completes: executed
     /// and answered through `tx`, or dropped without a reply when `swallow` (the remote
     /// control has the link). Then drops a partial frame whose bytes stopped arriving, and
-    /// when nothing has come for REGMASTER_PCTIMEOUT ms (not 0, and not `swallow`), raises
-    /// PCSILENT and has the schedule spread it to every slave. Returns whether any event
-    /// was taken.
+    /// when no clean byte has come for REGMASTER_PCTIMEOUT ms (not 0, and not `swallow`),
+    /// raises PCSILENT and has the schedule spread it to every slave (again every timeout
+    /// while the PC stays silent). Returns whether any event was taken.
     #[inline(never)]
     pub fn drain(
         &mut self,
@@ -47,12 +47,13 @@ impl PcLink {
         swallow: bool,
         s: &mut Traffic<'_>,
     ) -> bool {
-        let mut took = false;
+        let (mut took, mut heard) = (false, false);
         while let Some(event) = rx.lock(|q| q.pop_front()) {
             took = true;
             let now = now_ms(clock);
             match event {
                 RxEvent::Byte(b) => {
+                    heard = true;
                     if self.parser.push_byte(b) && !swallow {
                         self.serve(tx, clock, s);
                     }
@@ -71,10 +72,11 @@ impl PcLink {
         if self.timeout.expired(u32::from(now), waiting) && self.parser.abort() {
             s.service.link_error(LinkError::Truncated);
         }
-        // Any byte or serial error taken is the PC heard; the remote control's time counts
-        // as heard too (the PC is ignored then).
+        // A clean byte taken, or one waiting, is the PC heard (serial errors are not: a
+        // floating or noisy line must not keep the failsafe off); the remote control's time
+        // counts as heard too (the PC is ignored then).
         let timeout = s.service.local.pc_timeout_ms();
-        if self.watch.due(now, timeout, took || swallow) {
+        if self.watch.due(now, timeout, heard || waiting || swallow) {
             let latch = &mut s.service.local.exception;
             s.schedule
                 .stop_everything(MasterException::PC_SILENT, latch);

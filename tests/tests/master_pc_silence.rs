@@ -1,7 +1,7 @@
 //! The PC-silence failsafe (new, opt-in, REGMASTER_PCTIMEOUT): off at boot; once the PC
-//! writes a timeout, a PC that sends nothing for that long gets every motor stopped (the
-//! master raises PCSILENT, type 13, and writes REG_EXCEPTIONDATA to all nine slaves), once,
-//! until the PC is heard again.
+//! writes a timeout, a PC that sends no clean byte for that long gets every motor stopped
+//! (the master raises PCSILENT, type 13, and writes REG_EXCEPTIONDATA to all nine slaves),
+//! and again every timeout until the PC is heard.
 
 mod master_support;
 
@@ -15,8 +15,8 @@ fn set_timeout(rig: &mut Rig, ms: u16) {
     assert_eq!(rig.exchange(&frame, 1), [0x00]);
 }
 
-/// The slaves written REG_EXCEPTIONDATA = 100 (the spread) while tracing, sorted, and the
-/// end of the first such write (µs).
+/// The slaves written REG_EXCEPTIONDATA = 100 (the spread) since the last call, in address
+/// order (one entry per write), and the start of the first such write (µs).
 fn spread_targets(rig: &mut Rig) -> (Vec<u8>, f64) {
     let spread: Vec<_> = transactions(&rig.bus.take_trace())
         .into_iter()
@@ -28,6 +28,13 @@ fn spread_targets(rig: &mut Rig) -> (Vec<u8>, f64) {
     (to, first)
 }
 
+/// Each of the nine slaves `times` times, in address order.
+fn each_slave(times: usize) -> Vec<u8> {
+    (1..=9)
+        .flat_map(|a| std::iter::repeat_n(a, times))
+        .collect()
+}
+
 #[test]
 fn off_at_boot_so_a_silent_pc_stops_nothing() {
     let mut rig = Rig::new();
@@ -36,14 +43,20 @@ fn off_at_boot_so_a_silent_pc_stops_nothing() {
     rig.bus.set_tracing(true);
     rig.bus.take_trace();
     rig.run_us(3_000_000);
-    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(0));
     assert_eq!(rig.master_exception(), 0);
 }
 
 #[test]
-fn a_pc_silent_for_the_timeout_gets_every_motor_stopped_once() {
+fn a_pc_silent_for_the_timeout_gets_every_motor_stopped() {
     let mut rig = Rig::new();
     rig.reset_master();
+    // Every slave out of its boot exception, as the library's resetExceptions() leaves it.
+    for addr in 1..=9u8 {
+        let frame = [0x05, addr << 4 | 2, 0x01, id::REG_RESET, 0x01];
+        assert_eq!(rig.exchange(&frame, 1), [0x00]);
+        assert!(!rig.slave(addr).in_exception, "slave {addr}");
+    }
     set_timeout(&mut rig, 300);
     assert_eq!(rig.master_regs(&[id::REGMASTER_PCTIMEOUT], 2), [0x2c, 0x01]);
     // Frames closer than the timeout keep it quiet.
@@ -55,47 +68,52 @@ fn a_pc_silent_for_the_timeout_gets_every_motor_stopped_once() {
         sent = rig.micros() as f64;
         assert_eq!(rig.exchange(&[0x03, 0x03, 0x07], 2).len(), 2);
     }
-    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(0));
     // The master last heard the PC when the frame's third byte arrived.
     let heard = sent + 3.0 * master_support::BYTE_US;
     rig.run_us(1_000_000);
+    rig.bus.set_tracing(false);
     let (to, first) = spread_targets(&mut rig);
+    // At 300, 600 and 900 ms of silence.
     assert_eq!(
         to,
-        [1, 2, 3, 4, 5, 6, 7, 8, 9],
-        "one spread write to each slave"
+        each_slave(3),
+        "a spread write to each slave every 300 ms"
     );
     let after = (first - heard) / 1000.0;
     println!("spread started {after:.1} ms after the PC was last heard");
     // 300 ms on the master's 1-ms clock, plus its loop's latency.
     assert!((299.0..305.0).contains(&after), "{after} ms");
     for addr in 1..=9 {
-        assert!(rig.slave(addr).in_exception, "slave {addr}");
+        let slave = rig.slave(addr);
+        assert!(slave.in_exception, "slave {addr}");
+        assert_eq!(slave.exception_data, 0x0503, "slave {addr}: REMOTESLAVE");
     }
     assert_eq!(rig.master_exception(), 0x000d, "PCSILENT, slave 0, motor 0");
 }
 
 #[test]
-fn the_failsafe_rearms_when_the_pc_is_heard_and_spreads_even_over_another_exception() {
+fn the_stop_repeats_while_the_pc_is_silent_and_spreads_even_over_another_exception() {
     let mut rig = Rig::new();
     // The master stays in its boot exception (not reset): the spread must still go out.
     set_timeout(&mut rig, 500);
     rig.bus.set_tracing(true);
     rig.bus.take_trace();
-    rig.run_us(1_500_000);
-    assert_eq!(spread_targets(&mut rig).0, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
-    // Once only while the PC stays silent.
-    rig.run_us(1_500_000);
-    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    // At 500 and 1,000 ms of silence: a slave that missed a write, or was reset meanwhile,
+    // is stopped again.
+    rig.run_us(1_200_000);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(2));
     // The boot exception stays: it was latched first.
     assert_eq!(rig.master_exception(), 0x0002);
-    // That read was the PC heard: 500 ms later, again.
+    // That read was the PC heard: nothing for 400 ms, then again.
     rig.bus.take_trace();
-    rig.run_us(1_000_000);
-    assert_eq!(spread_targets(&mut rig).0, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    rig.run_us(400_000);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(0));
+    rig.run_us(300_000);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(1));
     // Writing 0 turns it off.
     set_timeout(&mut rig, 0);
     rig.bus.take_trace();
     rig.run_us(1_500_000);
-    assert_eq!(spread_targets(&mut rig).0, [0u8; 0]);
+    assert_eq!(spread_targets(&mut rig).0, each_slave(0));
 }

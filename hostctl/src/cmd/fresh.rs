@@ -26,6 +26,18 @@ pub const BOOT_CALIBRATION: &str = "note: not degrees: opening the port rebooted
 the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the register's \
 range). Positions are degrees after `calibrate`, in one `hostctl run FILE` script.";
 
+/// The note for a one-shot write of REGMASTER_PCTIMEOUT: the master's boot turns the
+/// failsafe off, and the next command's port opening reboots the master.
+pub const PC_TIMEOUT_ONE_SHOT: &str = "note: armed only until the master's next boot, and \
+the next hostctl command reboots it by opening the port; for a session that should stop the \
+rover when it stops talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.";
+
+/// Whether a write of `reg` to `device` arms the PC-silence failsafe for this connection
+/// only (see [`PC_TIMEOUT_ONE_SHOT`]).
+pub fn arms_for_this_boot(device: u8, reg: &Register) -> bool {
+    device == 0 && reg.id == id::REGMASTER_PCTIMEOUT
+}
+
 /// The bit of REGMASTER_TEMPSREAD that says whether master register `reg` holds a reading:
 /// `Some` for the temperatures (bit 0 ambient, bit n controller n's sensor), else `None`.
 pub fn sensor_bit(target: Target, reg: &Register) -> Option<u16> {

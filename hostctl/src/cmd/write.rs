@@ -125,5 +125,8 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
     if boot_scale {
         text += &format!("\n{}", fresh::BOOT_CALIBRATION);
     }
+    if fresh::arms_for_this_boot(plan.target.device, plan.reg) && plan.raw != 0 {
+        text += &format!("\n{}", fresh::PC_TIMEOUT_ONE_SHOT);
+    }
     text
 }

@@ -1,7 +1,9 @@
-//! The PC-silence failsafe (new, opt-in): when REGMASTER_PCTIMEOUT is not 0 and nothing
-//! (no byte, not even a damaged one) has come from the PC for that many ms, the master
-//! raises PCSILENT (type 13) and spreads it to every slave, so every motor stops, as for
-//! any other fault; the PC leaves it as any other, with resetExceptions() (reference §8.5).
+//! The PC-silence failsafe (new, opt-in): when REGMASTER_PCTIMEOUT is not 0 and no clean
+//! byte (one without a serial error) has come from the PC for that many ms, the master
+//! raises PCSILENT (type 13) and spreads it to every slave, so every motor stops, as for any
+//! other fault; the PC leaves it as any other, with resetExceptions() (reference §8.5).
+//! While the PC stays silent the spread is sent again every timeout, so a slave that missed
+//! one write, or an exception cleared meanwhile, is stopped again.
 //!
 //! The original had no such failsafe: a PC program that hung with the port open left the
 //! motors on their last demand (reference §4.6). Off by default, so a program that never
@@ -11,48 +13,37 @@
 //! remote control stops the drives on its own loss of link: that time counts as heard, so
 //! the PC's timeout starts again when the remote control lets go.
 
-/// When the PC was last heard, and whether the failsafe acted since.
+/// The longest timeout, ms: a larger REGMASTER_PCTIMEOUT acts as this. The wait is measured
+/// on the 16-bit ms clock, checked every loop pass (a few ms, at most some 20 ms): this
+/// leaves 5.5 s of the clock's wrap for the check to see it expire.
+pub const MAX_TIMEOUT_MS: u16 = 60_000;
+
+/// When the PC was last heard, or the failsafe last acted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PcWatch {
     /// The low 16 bits of the ms clock when the PC was last heard (or the remote control
-    /// last had the link). A timeout is at most 65,535 ms, so the trip comes before the difference
-    /// wraps.
-    heard_ms: u16,
-    /// The failsafe acted and nothing was heard since: nothing more to do until it is.
-    stopped: bool,
+    /// last had the link, or the failsafe last acted).
+    since_ms: u16,
 }
 
 impl PcWatch {
-    /// At boot: heard at 0 ms (the timeout is 0, off, until the PC writes it, and the PC
-    /// is heard doing so).
+    /// At boot (the timeout is 0, off, until the PC writes it, and the PC is heard doing
+    /// so).
     pub const fn new() -> Self {
-        PcWatch {
-            heard_ms: 0,
-            stopped: false,
-        }
+        PcWatch { since_ms: 0 }
     }
 
-    /// The PC was heard at `now_ms`.
-    #[inline(always)]
-    fn heard(&mut self, now_ms: u16) {
-        self.heard_ms = now_ms;
-        self.stopped = false;
-    }
-
-    /// Whether the failsafe acts at `now_ms`, given whether the PC was `heard`
-    /// since the last call (a byte or a serial error taken, or the remote control holding
-    /// the link, when the PC is ignored): true once when `timeout_ms` is not 0 and nothing
-    /// was heard for `timeout_ms` or more; then false until the PC is heard again.
+    /// Whether the failsafe acts at `now_ms`, given whether the PC was `heard` since the
+    /// last call (a clean byte taken, or the remote control holding the link, when the PC
+    /// is ignored): true when `timeout_ms` is not 0 and nothing was heard for `timeout_ms`
+    /// (at most [`MAX_TIMEOUT_MS`]) since the PC was last heard or the failsafe last acted.
     pub fn due(&mut self, now_ms: u16, timeout_ms: u16, heard: bool) -> bool {
-        if heard {
-            self.heard(now_ms);
-            return false;
+        let waited = now_ms.wrapping_sub(self.since_ms);
+        if heard || (timeout_ms != 0 && waited >= timeout_ms.min(MAX_TIMEOUT_MS)) {
+            self.since_ms = now_ms;
+            return !heard;
         }
-        if timeout_ms == 0 || self.stopped || now_ms.wrapping_sub(self.heard_ms) < timeout_ms {
-            return false;
-        }
-        self.stopped = true;
-        true
+        false
     }
 }
 
@@ -75,14 +66,29 @@ mod tests {
     }
 
     #[test]
-    fn acts_once_after_the_timeout_and_again_only_after_the_pc_is_heard() {
+    fn acts_after_the_timeout_and_again_every_timeout_while_silent() {
         let mut w = PcWatch::new();
         assert!(!w.due(1_000, 300, true));
-        // Exactly 300 ms after the PC was last heard, once.
-        assert_eq!(trips(&mut w, 1_001, 5_000, 300, false), vec![1_300]);
-        // Hearing it re-arms.
-        assert!(!w.due(5_000, 300, true));
-        assert_eq!(trips(&mut w, 5_001, 6_000, 300, false), vec![5_300]);
+        // Exactly 300 ms after the PC was last heard, then every 300 ms.
+        assert_eq!(
+            trips(&mut w, 1_001, 2_000, 300, false),
+            vec![1_300, 1_600, 1_900]
+        );
+        // Hearing it starts the wait again.
+        assert!(!w.due(2_050, 300, true));
+        assert_eq!(trips(&mut w, 2_051, 2_400, 300, false), vec![2_350]);
+    }
+
+    #[test]
+    fn a_loop_that_checks_late_acts_at_its_first_check_past_the_timeout() {
+        let mut w = PcWatch::new();
+        assert!(!w.due(0, 300, true));
+        // Checked every 7 ms: the first check at or past 300 ms acts.
+        let tripped: Vec<u32> = (1..100u32)
+            .map(|k| 7 * k)
+            .filter(|&t| w.due(t as u16, 300, false))
+            .collect();
+        assert_eq!(tripped[..2], [301, 602]);
     }
 
     #[test]
@@ -101,20 +107,28 @@ mod tests {
         assert!(trips(&mut w, 0, 100_000, 500, true).is_empty());
         // The timeout runs from the last ms the remote control had the link.
         assert_eq!(
-            trips(&mut w, 100_000, 102_000, 500, false),
+            trips(&mut w, 100_000, 100_600, 500, false),
             vec![99_999 + 500]
         );
     }
 
     #[test]
-    fn across_the_clock_wrap_and_at_the_longest_timeout() {
+    fn across_the_clock_wrap_and_at_the_longest_timeouts() {
         let mut w = PcWatch::new();
         assert!(!w.due(65_000, 1_000, true));
-        assert_eq!(trips(&mut w, 65_001, 70_000, 1_000, false), vec![66_000]);
-        assert!(!w.due(10, u16::MAX, true));
         assert_eq!(
-            trips(&mut w, 11, 200_000, u16::MAX, false),
-            vec![10 + u32::from(u16::MAX)]
+            trips(&mut w, 65_001, 67_500, 1_000, false),
+            vec![66_000, 67_000]
         );
+        // 60 s and above act as 60 s, which a loop checking every 20 ms still sees before
+        // the 16-bit clock wraps.
+        for timeout in [60_000, 60_001, u16::MAX] {
+            let mut w = PcWatch::new();
+            assert!(!w.due(10, timeout, true));
+            let first = (1..10_000u32)
+                .map(|k| 10 + 20 * k)
+                .find(|&t| w.due(t as u16, timeout, false));
+            assert_eq!(first, Some(60_010), "{timeout}");
+        }
     }
 }
