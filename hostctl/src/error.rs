@@ -364,8 +364,8 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
             .to_owned(),
     };
     format!(
-        "{who} did not answer {late}; the master reports: {} (code {code}, {count} link \
-         error(s) since boot): {advice}",
+        "{who} did not answer {late}; the master's last link error since its boot (it may be \
+         older than this command): {} (code {code}, {count} in all): {advice}",
         error.describe()
     )
 }

@@ -1,6 +1,7 @@
 //! Request/response over a [`Port`]: send one frame, read its exact reply. A reply that
-//! does not come is looked into by asking the master for its last link error, so the
-//! message can name the cause instead of blaming the addressed device.
+//! does not come is looked into by asking the master for its last link error since its
+//! boot, so the message can name the likely cause instead of blaming the addressed device
+//! (the error may be older than the failed frame: the message says so).
 
 use std::io;
 use std::time::Duration;

@@ -312,9 +312,10 @@ fn a_timeout_names_the_cause_the_master_reports() {
             "write 2 DRIVE_REQSPEED 0",
             &[&[], &[0x02], &[0x08, 0x01, 0x00]]
         ),
-        "device 2 did not answer within 1 s (0 of 1 reply bytes); the master reports: frame \
-         incomplete: bytes stopped arriving (code 8, 1 link error(s) since boot): a byte was \
-         lost on the serial line; retry, and check the cable if it keeps happening"
+        "device 2 did not answer within 1 s (0 of 1 reply bytes); the master's last link error \
+         since its boot (it may be older than this command): frame incomplete: bytes stopped \
+         arriving (code 8, 1 in all): a byte was lost on the serial line; retry, and check the \
+         cable if it keeps happening"
     );
     // A controller off the bus (code 12).
     assert_eq!(
@@ -322,10 +323,11 @@ fn a_timeout_names_the_cause_the_master_reports() {
             "write 4 DRIVE_REQSPEED 0",
             &[&[], &[0x02], &[0x0c, 0x03, 0x00]]
         ),
-        "device 4 did not answer within 1 s (0 of 1 reply bytes); the master reports: a slave \
-         did not answer on the I2C bus (code 12, 3 link error(s) since boot): controller 4 is \
-         not answering the master on the I2C bus; check that it is fitted and powered (on the \
-         twin: `twin inject restore 4`), then reset the rover"
+        "device 4 did not answer within 1 s (0 of 1 reply bytes); the master's last link error \
+         since its boot (it may be older than this command): a slave did not answer on the \
+         I2C bus (code 12, 3 in all): controller 4 is not answering the master on the I2C \
+         bus; check that it is fitted and powered (on the twin: `twin inject restore 4`), then \
+         reset the rover"
     );
     // No link error: the controller answered the master, so the reply was lost on the
     // way back (or the master rebooted).
