@@ -3,8 +3,9 @@
 //! It links the PC to the nine motor controllers: it answers the PC-master protocol of
 //! `docs/protocol.md` on the USART, serves its own registers (device 0) and relays the
 //! others over I2C; it pings the slaves, spreads their exceptions and notices a slave
-//! that goes silent; it reads the ten temperature sensors on the OneWire bus; and it lets
-//! an RC receiver drive the rover. Every decision is in `shared::master` and tested on
+//! that goes silent; it reads the ten temperature sensors on the OneWire bus; it lets an
+//! RC receiver drive the rover; and, when the PC arms it, it stops every motor once the PC
+//! goes silent (REGMASTER_PCTIMEOUT). Every decision is in `shared::master` and tested on
 //! the host; this crate moves bytes and bits between the hardware and that logic.
 //!
 //! Tasks (priorities are static; higher preempts lower):

@@ -28,8 +28,9 @@ pub enum ExceptionType {
     /// Slave: armed by a ping, it heard no bus transaction for BUSTIMEOUT ms (the master
     /// or the cable is gone); new in this project, motor 5 (none).
     BusSilent = 12,
-    /// Master: armed by REGMASTER_PCTIMEOUT, it heard nothing from the PC for that many
-    /// ms (the PC program hung or the cable is gone); new in this project, slave 0, motor 0.
+    /// Master: armed by REGMASTER_PCTIMEOUT, it heard no clean byte from the PC for that
+    /// many ms (the PC program hung or the cable is gone); new in this project, slave 0,
+    /// motor 0.
     PcSilent = 13,
 }
 
