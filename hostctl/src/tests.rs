@@ -67,6 +67,15 @@ fn refused(args: &str) -> String {
     }
 }
 
+/// Runs a command that must succeed: returns what it printed.
+fn printed<R: AsRef<[u8]>>(args: &str, replies: &[R]) -> String {
+    let outcome = hostctl(args, replies);
+    if let Err(e) = outcome.result {
+        panic!("{args}: {e}");
+    }
+    outcome.out
+}
+
 // ---- write ----
 
 /// The replies to a write on a controller and the status read that follows it (set 7 holds
@@ -92,10 +101,8 @@ fn write_drive_speed_sends_the_reference_frame() {
 #[test]
 fn a_write_that_nothing_will_act_on_says_so() {
     // Fresh from the port's reboot, the controller is in its boot exception.
-    let o = hostctl("write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
-    o.result.unwrap();
     assert_eq!(
-        o.out,
+        printed("write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION),
         "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n\
          note: controller 1 is in exception (every controller is after the port opens, which \
          reboots the rover): the board keeps the register's value but acts on nothing until \
@@ -179,9 +186,8 @@ fn the_pc_silence_timeout_is_written_as_a_master_word() {
          talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.\n"
     );
     // Turning it off needs no note.
-    let o = hostctl("write 0 pctimeout 0", &[[0x00]]);
     assert_eq!(
-        o.out,
+        printed("write 0 pctimeout 0", &[[0x00]]),
         "device 0 REGMASTER_PCTIMEOUT = 0 ms (raw 0x0000, arrives as 0 ms)\n"
     );
     assert!(refused("write 0 pctimeout 70000").contains("allowed 0..65535"));
@@ -196,22 +202,16 @@ fn write_says_what_the_board_uses_for_truncated_registers() {
         o.out,
         "device 1 REGDS_DRIVE_OVERCURRENTTHRESH = 10 adc (raw 0x028f, arrives as 9 adc)\n"
     );
-    let o = hostctl("write 1 drive_stallcheck 100", &WRITTEN_RUNNING);
-    o.result.unwrap();
     assert_eq!(
-        o.out,
+        printed("write 1 drive_stallcheck 100", &WRITTEN_RUNNING),
         "device 1 REGDS_DRIVE_STALLCHECK = 100 duty (raw 0x63, arrives as 99 duty)\n"
     );
-    let o = hostctl("write 1 drive_mode 5", &WRITTEN_RUNNING);
-    o.result.unwrap();
     assert_eq!(
-        o.out,
+        printed("write 1 drive_mode 5", &WRITTEN_RUNNING),
         "device 1 REGDS_DRIVE_MODE = 5 mode (raw 0x05, arrives as 0 mode)\n"
     );
-    let o = hostctl("write 1 drive_mode 1", &WRITTEN_RUNNING);
-    o.result.unwrap();
     assert_eq!(
-        o.out,
+        printed("write 1 drive_mode 1", &WRITTEN_RUNNING),
         "device 1 REGDS_DRIVE_MODE = 1 mode (raw 0x01, arrives as 1 mode)\n"
     );
     // JSON's "applied" is the same value as a number.
