@@ -6,7 +6,7 @@
 //! - Idle ([`RemoteControl`]) turns the counts into a µs timeline, measures the pulses,
 //!   keeps the link state on its millisecond clock, sends the first link-up's writes once
 //!   per boot (one per idle loop, so the PC link and the schedule are served in
-//!   between), then one pass every [`PASS_PERIOD_MS`] while the link is up: REQSPEED and
+//!   between), then one pass every [`PASS_PERIOD_MS`](shared::master::rc::PASS_PERIOD_MS) while the link is up: REQSPEED and
 //!   STEER_REQPOS to the six drive/steer boards; and one more when the link is lost (no
 //!   edge for 1 s), with drive and steer centred: REQSPEED 0, the steering left as it
 //!   was (new: the original left the drives on the last pass's speed).
@@ -20,12 +20,9 @@ use drivers::rc_pins::RcPins;
 use drivers::timer1::{EdgeClock, FreeRunning};
 use shared::master::rc::setup::DS_CONTROLLERS_FLASH;
 use shared::master::rc::{angle_raw_in_range, speed_raw_in_range};
-use shared::master::rc::{LinkUpWrites, Pass, PulseTimer, Remote};
+use shared::master::rc::{Next, Pass, PassPlan, PulseTimer, Remote};
 use shared::master::{RegWrite, Ring};
 use shared::regs::id;
-
-/// A pass every this many ms while the link is up.
-pub const PASS_PERIOD_MS: u16 = 5;
 
 /// One pin change: Timer1's count (half µs) and the channel levels (bit c = channel c),
 /// widened to 16 bits so a queue slot is four bytes (its index scales by shifts).
@@ -62,13 +59,8 @@ pub struct RemoteControl {
     clock: EdgeClock,
     pulses: PulseTimer,
     remote: Remote,
-    /// The first link-up's writes still to send.
-    setup: Option<LinkUpWrites>,
-    /// The clock's low 16 bits at the last pass (it is checked every loop).
-    last_pass_ms: u16,
-    /// The link was lost and the stopping pass is still to send (after any link-up
-    /// writes in progress, so that none of them comes after it).
-    stop_due: bool,
+    /// What to send next.
+    plan: PassPlan,
 }
 
 impl RemoteControl {
@@ -78,9 +70,7 @@ impl RemoteControl {
             clock: EdgeClock::new(),
             pulses: PulseTimer::new(),
             remote: Remote::new(),
-            setup: None,
-            last_pass_ms: 0,
-            stop_due: false,
+            plan: PassPlan::new(),
         }
     }
 
@@ -104,33 +94,17 @@ impl RemoteControl {
         self.remote.link_up_at(now_ms)
     }
 
-    /// Sends through `send` what is due at `now_ms`: the first link-up's writes one at a
-    /// time (device 0 is the master itself), then every [`PASS_PERIOD_MS`] while the link
-    /// is up a pass, whose twelve writes go out together (about 1.3 ms at 400 kHz), and
-    /// the stopping pass once the link is lost. Returns whether anything was sent.
+    /// Sends through `send` what is due at `now_ms` ([`PassPlan::next`]): a link-up write
+    /// (device 0 is the master itself), or a pass, whose twelve writes go out together
+    /// (about 1.3 ms at 400 kHz). Returns whether anything was sent.
     #[inline(never)]
     pub fn next(&mut self, now_ms: u16, mut send: impl FnMut(RegWrite)) -> bool {
         let link = self.remote.link_state(u32::from(now_ms));
-        if link.first {
-            self.setup = Some(LinkUpWrites::new());
+        match self.plan.next(link, now_ms) {
+            Some(Next::Write(w)) => send(w),
+            Some(Next::Pass) => pass_writes(&self.remote.pass(), send),
+            None => return false,
         }
-        self.stop_due |= link.lost;
-        if let Some(setup) = self.setup.as_mut() {
-            match setup.next() {
-                Some(w) => {
-                    send(w);
-                    return true;
-                }
-                None => self.setup = None,
-            }
-        }
-        let now = now_ms;
-        let stop = core::mem::take(&mut self.stop_due);
-        if !stop && (!link.up || now.wrapping_sub(self.last_pass_ms) < PASS_PERIOD_MS) {
-            return false;
-        }
-        self.last_pass_ms = now;
-        pass_writes(&self.remote.pass(), send);
         true
     }
 }

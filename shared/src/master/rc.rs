@@ -11,10 +11,12 @@
 //! the integrator in µdeg, speeds in tenths of ticks/s.
 
 pub mod input;
+pub mod plan;
 pub mod setup;
 pub mod steer;
 
 pub use input::{normalise, within_band, PulseTimer, CHANNELS};
+pub use plan::{Next, PassPlan, PASS_PERIOD_MS};
 pub use setup::{LinkUpWrites, DS_CONTROLLERS, LINK_UP_WRITES};
 
 use crate::master::ping::RegWrite;
