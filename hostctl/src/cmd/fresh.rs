@@ -5,14 +5,41 @@
 //! The master is fresh too: it has read no temperature sensor yet (REGMASTER_TEMPSREAD).
 //! The notes here say so, rather than let a value or a write pass as more than it is.
 
+use shared::mapping;
 use shared::regs::{id, Register};
 
 use super::read::SCRATCH_SET;
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
+use crate::json;
 use crate::link::Link;
 use crate::port::Port;
 use crate::resolve::Target;
+
+/// `object` with register `reg`'s members for `--json`: id, name, raw, value in units and
+/// unit, and `read` when the register is a master temperature (`read` its TEMPSREAD bit):
+/// a temperature not read yet holds 0.0 °C, which is no value, so its value is `null`.
+pub fn register_json(
+    object: json::Object,
+    reg: &Register,
+    raw: u16,
+    read: Option<bool>,
+) -> json::Object {
+    let object = object
+        .int("id", reg.id)
+        .str("register", reg.name)
+        .int("raw", raw);
+    let object = if read == Some(false) {
+        object.raw("value", "null")
+    } else {
+        object.num("value", mapping::unmap(raw, reg))
+    }
+    .str("unit", reg.unit);
+    match read {
+        Some(read) => object.raw("read", if read { "true" } else { "false" }),
+        None => object,
+    }
+}
 
 /// Whether `reg`'s value is an angle through the controller's pot calibration (a position,
 /// its error and derivative, the dead zone): degrees only once the board is calibrated.

@@ -5,7 +5,6 @@
 //! REGMASTER_TEMPSREAD beside it, which says whether it is a reading at all. Do not use set 7 for
 //! anything that must survive a `hostctl read`.
 
-use shared::mapping;
 use shared::regs::{id, Register};
 
 use super::{fresh, Frame, SetRead};
@@ -81,21 +80,8 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
         let object = json::Object::new()
             .str("command", "read")
             .int("device", target.device)
-            .str("board", target.board())
-            .int("id", reg.id)
-            .str("register", reg.name)
-            .int("raw", raw);
-        // A temperature not read yet holds 0.0 °C, which is no value.
-        let object = if read == Some(false) {
-            object.raw("value", "null")
-        } else {
-            object.num("value", mapping::unmap(raw, reg))
-        }
-        .str("unit", reg.unit);
-        let object = match read {
-            Some(read) => object.raw("read", if read { "true" } else { "false" }),
-            None => object,
-        };
+            .str("board", target.board());
+        let object = fresh::register_json(object, reg, raw, read);
         return if boot_scale {
             object.raw("boot_calibration", "true").finish()
         } else {

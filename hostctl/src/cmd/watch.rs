@@ -12,7 +12,6 @@
 
 use std::time::Duration;
 
-use shared::mapping;
 use shared::regs::{id, BoardKind, Register};
 
 use super::read::SCRATCH_SET;
@@ -380,23 +379,7 @@ pub fn json_lines(round: &Round) -> Vec<String> {
         .iter()
         .map(|row| {
             let values = json::array(row.values.iter().map(|&(reg, raw)| {
-                let read = row.is_reading(reg);
-                let value = json::Object::new()
-                    .int("id", reg.id)
-                    .str("register", reg.name)
-                    .int("raw", raw);
-                // A temperature not read yet holds 0.0 °C, which is no value.
-                let value = if read == Some(false) {
-                    value.raw("value", "null")
-                } else {
-                    value.num("value", mapping::unmap(raw, reg))
-                }
-                .str("unit", reg.unit);
-                match read {
-                    Some(read) => value.raw("read", if read { "true" } else { "false" }),
-                    None => value,
-                }
-                .finish()
+                fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg)).finish()
             }));
             json::Object::new()
                 .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
