@@ -3,7 +3,9 @@
 
 use shared::mapping;
 use shared::master::rc::setup::{DRIVE_BLOCK, STEER_BLOCK, STEER_CALIBRATION};
-use shared::master::rc::steer::{inner_angle, integrate, tables, wheel_angles};
+use shared::master::rc::steer::{
+    inner_angle, integrate, knots, wheel_angles, ACKERMANN_MIN_CDEG, KNOT_STEP_CDEG,
+};
 use shared::master::rc::{
     normalise, LinkUpWrites, PulseTimer, Remote, DS_CONTROLLERS, LINK_UP_WRITES,
 };
@@ -190,38 +192,46 @@ fn inner_reference(outer: f64) -> f64 {
 }
 
 #[test]
-fn the_inner_angle_is_within_0_1_degree_of_the_f64_formula() {
+fn the_inner_angle_is_within_0_01_degree_of_the_f64_formula() {
     let mut worst = 0.0f64;
-    for cdeg in -4500i16..=4500 {
+    for cdeg in -3000i16..=3000 {
         let got = f64::from(inner_angle(cdeg)) / 100.0;
         let want = inner_reference(f64::from(cdeg) / 100.0);
         worst = worst.max((got - want).abs());
     }
     eprintln!("inner angle: worst error {worst}°");
-    assert!(worst < 0.1, "worst error {worst}°");
-    assert!(worst < 0.02, "in fact within 0.02°: {worst}°");
+    assert!(worst < 0.01, "worst error {worst}°");
     // Worked examples.
     assert_eq!(
         inner_angle(499),
         499,
         "below 5° the inner wheel takes the outer angle"
     );
-    assert_eq!(inner_angle(3000), 1677, "30° outer gives 16.778° inner");
+    assert_eq!(inner_angle(500), 439, "the step at 5°: 4.394°");
+    assert_eq!(inner_angle(3000), 1677, "30° outer gives 16.777° inner");
     assert_eq!(inner_angle(-3000), -1677);
-    assert_eq!(inner_angle(500), 440, "the step at 5°: 4.394° exact");
+    assert_eq!(inner_angle(2000), 1300, "20° outer gives 12.997° inner");
+    // Beyond the integrator's limit the inner wheel stays at 30°'s angle.
+    assert_eq!(inner_angle(4500), 1677);
+    assert_eq!(inner_angle(i16::MIN), -1677);
 }
 
 #[test]
-fn the_tables_are_the_f64_values() {
-    let (tan, atan) = tables();
-    for (deg, &v) in tan.iter().enumerate() {
-        let want = ((deg as f64).to_radians().tan() * 32768.0).round();
-        assert_eq!(f64::from(v), want, "tan {deg}°");
+fn the_knots_are_the_f64_values_and_their_rises_fit_a_byte_product() {
+    let knots = knots();
+    for (n, pair) in knots.windows(2).enumerate() {
+        let rise = pair[1] - pair[0];
+        // Rising, and below 64: the firmware's rise times fraction is one 8×8 product.
+        assert!((1..64).contains(&rise), "knot {n}: rise {rise}");
     }
-    for (n, &v) in atan.iter().enumerate() {
-        let want = ((n as f64 / 32.0).atan().to_degrees() * 100.0).round();
-        assert_eq!(f64::from(v), want, "atan {n}/32");
+    for (n, &v) in knots.iter().enumerate() {
+        let outer = f64::from(ACKERMANN_MIN_CDEG as u16 + KNOT_STEP_CDEG * n as u16) / 100.0;
+        let want = (inner_reference(outer) * 100.0).round();
+        assert_eq!(f64::from(v), want, "knot {n} at {outer}°");
     }
+    // The last knot lies past the integrator's 30°.
+    let last = ACKERMANN_MIN_CDEG as u16 + KNOT_STEP_CDEG * (knots.len() as u16 - 1);
+    assert!(last >= 3000, "{last}");
 }
 
 #[test]

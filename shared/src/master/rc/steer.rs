@@ -3,77 +3,43 @@
 //!
 //! The inner wheel's angle is θi = acot((W·cot|θo| + S)/W), that is
 //! tan θi = tan θo / (1 + (S/W)·tan θo), with W = 26.5 (half the 53 wheelbase) and
-//! S = 42 (separation). tan and atan come from 1° and 1/32 tables with linear
-//! interpolation in Q15 (2¹⁵ = 1.0); the result is within 0.012° of the f64 formula
-//! (checked on the host for every centidegree up to 45°). The firmware reads the same
-//! results from a step table built from them at compile time ([`wheel_angles`] through
-//! [`inner_angle_within_limit`]), so it carries neither the interpolation nor a division.
-
-use crate::progmem::Flash;
-
-mod steps;
+//! S = 42 (separation). The integrator keeps |θo| ≤ 30°, and above 5° θi is a smooth,
+//! slowly bending curve, so the firmware carries it as the formula's values every
+//! 0.64° and interpolates between them with one 8×8 product and a shift: no tan, atan or
+//! division at run time, and within 0.01° of the f64 formula at every centidegree
+//! (a host test checks all of them).
 
 /// Limit of the steer integrator: ±30° in µdeg.
 pub const STEER_LIMIT_UDEG: i32 = 30_000_000;
 /// Below this outer angle (5°, in cdeg) the inner wheel takes the outer angle.
 pub const ACKERMANN_MIN_CDEG: i16 = 500;
-/// Largest angle the geometry handles (45°, in cdeg); larger ones are taken as 45°.
-pub const GEOMETRY_MAX_CDEG: i16 = 4500;
+/// The integrator's limit in cdeg: the largest outer angle the geometry is asked for.
+const LIMIT_CDEG: u16 = (STEER_LIMIT_UDEG / 10_000) as u16;
 
-/// W = 26.5 and S = 42, both scaled by 10.
-const W10: u32 = 265;
-const S10: u32 = 420;
-/// 1.0 in Q15.
-const ONE_Q15: u32 = 1 << 15;
+/// log2 of the outer angle between two knots (cdeg): 64 cdeg, a power of two so the
+/// interpolation divides by a shift.
+const KNOT_SHIFT: u32 = 6;
+/// Outer angle between two knots (cdeg).
+pub const KNOT_STEP_CDEG: u16 = 1 << KNOT_SHIFT;
 
-/// tan(n°) in Q15, n = 0..=45.
-const TAN_Q15: [u16; 46] = [
-    0, 572, 1144, 1717, 2291, 2867, 3444, 4023, 4605, 5190, 5778, 6369, 6965, 7565, 8170, 8780,
-    9396, 10018, 10647, 11283, 11927, 12578, 13239, 13909, 14589, 15280, 15982, 16696, 17423,
-    18164, 18919, 19689, 20476, 21280, 22102, 22944, 23807, 24692, 25601, 26535, 27496, 28485,
-    29504, 30557, 31644, 32768,
-];
-
-/// atan(n/32) in cdeg, n = 0..=32.
-const ATAN_CDEG: [u16; 33] = [
-    0, 179, 358, 536, 713, 888, 1062, 1234, 1404, 1571, 1735, 1897, 2056, 2211, 2363, 2511, 2657,
-    2798, 2936, 3070, 3201, 3327, 3451, 3571, 3687, 3800, 3909, 4016, 4119, 4218, 4315, 4409, 4500,
+/// The inner angle (cdeg, rounded) of the outer angle 5° + 0.64°·n, n = 0..=40 (the last
+/// knot is past 30°, so every angle up to the limit lies between two). The rises from
+/// one knot to the next are 21..=49 (tested below 64), so a rise times the step's
+/// fraction (< 64) fits a u16 and comes from one 8×8 product.
+const KNOTS: [u16; 41] = [
+    439, 488, 535, 581, 626, 669, 711, 752, 792, 831, 869, 906, 942, 977, 1011, 1045, 1077, 1109,
+    1141, 1171, 1201, 1231, 1259, 1288, 1315, 1342, 1369, 1395, 1421, 1446, 1471, 1495, 1519, 1542,
+    1566, 1588, 1611, 1633, 1655, 1676, 1698,
 ];
 
 crate::flash_table! {
-    /// [`TAN_Q15`] as the maths reads it, kept in flash on the AVR.
-    static TAN_Q15_FLASH: [u16; 46] = TAN_Q15;
+    /// [`KNOTS`] as the firmware reads it, kept in flash on the AVR.
+    static KNOTS_FLASH: [u16; 41] = KNOTS;
 }
 
-crate::flash_table! {
-    /// [`ATAN_CDEG`] as the maths reads it, kept in flash on the AVR.
-    static ATAN_CDEG_FLASH: [u16; 33] = ATAN_CDEG;
-}
-
-/// The tables, for the host test that checks them against f64.
-pub fn tables() -> (&'static [u16; 46], &'static [u16; 33]) {
-    (&TAN_Q15, &ATAN_CDEG)
-}
-
-/// Linear interpolation between `table[index]` and `table[index + 1]` at `frac / step`.
-/// A rise times `frac` fits 32 bits (rises ≤ 1124, `frac` < 1024), and the result lies
-/// between two table values, so it fits 16.
-fn lerp(table: &'static Flash<[u16]>, index: u16, frac: u16, step: u16) -> u16 {
-    let a = table.get(usize::from(index)).unwrap_or(0);
-    let b = table.get(usize::from(index) + 1).unwrap_or(a);
-    // Tables rise monotonically, so b ≥ a; round to nearest.
-    let rise = (u32::from(b - a) * u32::from(frac) + u32::from(step / 2)) / u32::from(step);
-    a + rise as u16
-}
-
-/// tan of `cdeg` (0..=4500) in Q15.
-fn tan_q15(cdeg: u16) -> u16 {
-    lerp(TAN_Q15_FLASH.as_slice(), cdeg / 100, cdeg % 100, 100)
-}
-
-/// atan of `t` (Q15, 0..=1.0) in cdeg.
-fn atan_cdeg(t: u16) -> u16 {
-    lerp(ATAN_CDEG_FLASH.as_slice(), t / 1024, t % 1024, 1024)
+/// The knots, for the host test that checks them against f64.
+pub fn knots() -> &'static [u16; 41] {
+    &KNOTS
 }
 
 /// One step of the steer integrator: s := clamp(s − 0.03°·steer, −30°, +30°), with s in
@@ -83,36 +49,24 @@ pub fn integrate(s_udeg: i32, steer_milli: i16) -> i32 {
 }
 
 /// The inner wheel's angle for the outer angle `outer` (both in cdeg): the outer angle
-/// itself below 5°, else acot((W·cot|θo| + S)/W) with θo's sign.
+/// itself below 5°, else acot((W·cot|θo| + S)/W) with θo's sign, by linear interpolation
+/// between the two knots around |θo| (rounded to nearest). Beyond the integrator's ±30°
+/// the inner wheel takes the angle of ±30°'s.
 pub fn inner_angle(outer: i16) -> i16 {
-    if outer.unsigned_abs() < ACKERMANN_MIN_CDEG as u16 {
-        return outer;
-    }
-    let a = outer.unsigned_abs().min(GEOMETRY_MAX_CDEG as u16);
-    let t = u32::from(tan_q15(a));
-    // 1 + (S/W)·t in Q15; t ≤ 1.0, so every product fits a u32.
-    let d = ONE_Q15 + S10 * t / W10;
-    // t ≤ d, so the quotient is at most 1.0 in Q15.
-    let ti = (t * ONE_Q15 / d) as u16;
-    // ≤ 4500, so it fits an i16.
-    let inner = atan_cdeg(ti) as i16;
-    if outer < 0 {
-        -inner
-    } else {
-        inner
-    }
-}
-
-/// [`inner_angle`] for an outer angle within the integrator's ±30°, from the step table
-/// (the firmware's path: no interpolation or division at run time). Beyond ±30° the
-/// inner wheel takes the angle of ±30°'s.
-pub fn inner_angle_within_limit(outer: i16) -> i16 {
     let a = outer.unsigned_abs();
     if a < ACKERMANN_MIN_CDEG as u16 {
         return outer;
     }
-    // ≤ 4500, so it fits an i16.
-    let inner = steps::inner_of(a) as i16;
+    let k = a.min(LIMIT_CDEG) - ACKERMANN_MIN_CDEG as u16;
+    let index = usize::from(k >> KNOT_SHIFT);
+    let below = KNOTS_FLASH.get(index).unwrap_or(0);
+    let above = KNOTS_FLASH.get(index + 1).unwrap_or(below);
+    // Both below 64, so the product is one 8×8 `mul` on the chip.
+    let rise = (above - below) as u8;
+    let frac = (k % KNOT_STEP_CDEG) as u8;
+    let step = (u16::from(rise) * u16::from(frac) + KNOT_STEP_CDEG / 2) >> KNOT_SHIFT;
+    // ≤ 1698, so it fits an i16.
+    let inner = (below + step) as i16;
     if outer < 0 {
         -inner
     } else {
@@ -121,69 +75,18 @@ pub fn inner_angle_within_limit(outer: i16) -> i16 {
 }
 
 /// The six steer angles (wheels 1..6, cdeg) for outer angle `outer` (within the
-/// integrator's ±30°; see [`inner_angle_within_limit`]). Normal mode: for θo < 0, wheels
-/// 1, 2, 5, 6 = −θo, −θi, θo, θi; for θo ≥ 0 they are −θi, −θo, θi, θo; wheels 3 and 4 =
-/// 0. Crab mode: all six = θo.
+/// integrator's ±30°; see [`inner_angle`]). Normal mode: for θo < 0, wheels 1, 2, 5, 6 =
+/// −θo, −θi, θo, θi; for θo ≥ 0 they are −θi, −θo, θi, θo; wheels 3 and 4 = 0. Crab
+/// mode: all six = θo.
 pub fn wheel_angles(outer: i16, crab: bool) -> [i16; 6] {
     if crab {
         return [outer; 6];
     }
-    let inner = inner_angle_within_limit(outer);
+    let inner = inner_angle(outer);
     let (w1, w2, w5, w6) = if outer < 0 {
         (outer.saturating_neg(), -inner, outer, inner)
     } else {
         (-inner, -outer, inner, outer)
     };
     [w1, w2, 0, 0, w5, w6]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The first integer version of the geometry (u32 throughout), kept as the reference
-    /// the firmware's narrower arithmetic must match exactly.
-    fn reference_inner(outer: i16) -> i16 {
-        fn lerp(table: &[u16], index: usize, frac: u32, step: u32) -> u32 {
-            let a = table.get(index).map_or(0, |&v| u32::from(v));
-            let b = table.get(index + 1).map_or(a, |&v| u32::from(v));
-            a + ((b - a) * frac + step / 2) / step
-        }
-        if outer.unsigned_abs() < ACKERMANN_MIN_CDEG as u16 {
-            return outer;
-        }
-        let a = u32::from(outer.unsigned_abs().min(GEOMETRY_MAX_CDEG as u16));
-        let t = lerp(&TAN_Q15, (a / 100) as usize, a % 100, 100);
-        let d = ONE_Q15 + S10 * t / W10;
-        let ti = t * ONE_Q15 / d;
-        let inner = lerp(&ATAN_CDEG, (ti / 1024) as usize, ti % 1024, 1024) as i16;
-        if outer < 0 {
-            -inner
-        } else {
-            inner
-        }
-    }
-
-    #[test]
-    fn within_the_limit_the_step_table_gives_the_inner_angle() {
-        let limit = (STEER_LIMIT_UDEG / 10_000) as i16;
-        for outer in -limit..=limit {
-            assert_eq!(
-                inner_angle_within_limit(outer),
-                inner_angle(outer),
-                "{outer}"
-            );
-        }
-        assert_eq!(inner_angle_within_limit(-3000), -1677);
-        assert_eq!(inner_angle_within_limit(i16::MIN), -1677);
-        assert_eq!(inner_angle_within_limit(499), 499);
-    }
-
-    #[test]
-    fn every_outer_angle_gives_the_reference_inner_angle() {
-        for outer in i16::MIN..=i16::MAX {
-            assert_eq!(inner_angle(outer), reference_inner(outer), "{outer}");
-        }
-        assert_eq!(inner_angle(-3000), -1677);
-    }
 }
