@@ -51,8 +51,10 @@ pub(crate) struct Shared {
     pub uart_out: RefCell<Vec<(u64, u8)>>,
     /// Count of UART0 bytes the firmware ever sent.
     pub uart_sent: Cell<u64>,
-    /// Bytes queued for the firmware's UART0 receiver.
-    pub rx_queue: RefCell<VecDeque<u8>>,
+    /// Characters queued for the firmware's UART0 receiver, as simavr's input IRQ takes
+    /// them: the byte, with [`crate::uart::FRAMING_ERROR`] set for one received with a
+    /// framing error.
+    pub rx_queue: RefCell<VecDeque<u16>>,
     /// True while the receive pump timer is scheduled.
     pub rx_armed: Cell<bool>,
     /// Absolute cycle of the last byte handed to the receiver.

@@ -319,6 +319,15 @@ impl Bus {
         self.chips[chip].borrow_mut().uart_send(bytes);
     }
 
+    /// Queues bytes for chip `chip`'s UART0 receiver, each with a framing error (see
+    /// [`Avr::uart_send_framing_error`]).
+    ///
+    /// # Panics
+    /// If `chip` is not the index of a chip on this bus.
+    pub fn uart_send_framing_error(&mut self, chip: usize, bytes: &[u8]) {
+        self.chips[chip].borrow_mut().uart_send_framing_error(bytes);
+    }
+
     /// Runs the bus until chip `chip` has sent `needle` on UART0; returns its output up to and
     /// including `needle` (later bytes are kept for the next call).
     ///

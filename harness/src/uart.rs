@@ -13,6 +13,9 @@ use crate::{Avr, HarnessError};
 const UCSR0B: usize = 0xC1;
 /// RXEN0 bit in UCSR0B.
 const RXEN0: u8 = 1 << 4;
+/// simavr's mark on a received character that had a framing error (`UART_INPUT_FE`): the
+/// firmware reads FE0 set in UCSR0A while that character is the next in its buffer.
+pub(crate) const FRAMING_ERROR: u16 = 0x8000;
 /// Cycles to wait before retrying while the receiver is still disabled.
 const RX_RETRY_CYCLES: u64 = 1600;
 
@@ -80,14 +83,14 @@ unsafe extern "C" fn rx_pump(
         // firmware has enabled its receiver, so tests may queue input before boot.
         return when + RX_RETRY_CYCLES;
     }
-    let byte = shared.rx_queue.borrow_mut().pop_front();
-    let Some(byte) = byte else {
+    let character = shared.rx_queue.borrow_mut().pop_front();
+    let Some(character) = character else {
         shared.rx_armed.set(false);
         return 0;
     };
     shared.rx_last.set(Some(shared.now()));
     // SAFETY: `uart_in` is UART0's input IRQ of this live core.
-    unsafe { ffi::avr_raise_irq(shared.uart_in, u32::from(byte)) };
+    unsafe { ffi::avr_raise_irq(shared.uart_in, u32::from(character)) };
     if shared.rx_queue.borrow().is_empty() {
         shared.rx_armed.set(false);
         0
@@ -142,10 +145,18 @@ impl Avr {
     /// Queues bytes for the firmware's UART0 receiver; they arrive one per
     /// character time while the emulation runs.
     pub fn uart_send(&mut self, bytes: &[u8]) {
-        self.shared
-            .rx_queue
-            .borrow_mut()
-            .extend(bytes.iter().copied());
+        self.queue_rx(bytes.iter().map(|&b| u16::from(b)));
+    }
+
+    /// Like [`Avr::uart_send`], but each byte arrives with a framing error (a wrong baud
+    /// rate or noise on the line): the firmware finds FE0 set in UCSR0A before it reads
+    /// the byte from UDR0.
+    pub fn uart_send_framing_error(&mut self, bytes: &[u8]) {
+        self.queue_rx(bytes.iter().map(|&b| u16::from(b) | FRAMING_ERROR));
+    }
+
+    fn queue_rx(&mut self, characters: impl Iterator<Item = u16>) {
+        self.shared.rx_queue.borrow_mut().extend(characters);
         self.arm_rx_pump();
     }
 

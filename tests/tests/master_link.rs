@@ -1,5 +1,6 @@
 //! The real master image in the emulator, driven over its UART as a PC program would:
-//! the banner, device 0's registers, the library's read set 2, and bad input.
+//! the banner, device 0's registers, the library's read set 2, and bad input (garbled
+//! bytes on the line included).
 
 use harness::Avr;
 
@@ -159,6 +160,25 @@ fn a_frame_that_stops_arriving_is_dropped_and_the_link_recovers() {
     assert_eq!(
         read_master(&mut avr, &[11, 12, 13], 5),
         [0x00, 0x00, 8, 1, 0]
+    );
+}
+
+#[test]
+fn a_byte_with_a_framing_error_drops_the_partial_frame_and_is_counted() {
+    let (mut avr, _) = boot();
+    // resetExceptions() for device 0 with its third byte garbled on the line, then at once
+    // the same frame sent clean.
+    avr.uart_send(&[0x05, 0x02]);
+    avr.uart_send_framing_error(&[0x01]);
+    let clean = [0x05, 0x02, 0x01, 0x00, 0x01];
+    // One reply, the clean frame's: the garbled frame's first two bytes were dropped with
+    // the bad byte, not joined to the clean frame's.
+    assert_eq!(exchange(&mut avr, &clean, 1), [0x00]);
+    // So the reset was applied once, and the framing error is the last error (code 13),
+    // the only one counted.
+    assert_eq!(
+        read_master(&mut avr, &[11, 12, 13], 5),
+        [0x00, 0x00, 13, 1, 0]
     );
 }
 

@@ -93,6 +93,39 @@ fn a_pc_silent_for_the_timeout_gets_every_motor_stopped() {
 }
 
 #[test]
+fn bytes_with_serial_errors_do_not_count_as_the_pc_heard() {
+    let mut rig = Rig::new();
+    rig.reset_master();
+    set_timeout(&mut rig, 300);
+    // A clean frame, then only garbled bytes (a wrong baud rate, or a floating line),
+    // one every 50 ms for 650 ms.
+    assert_eq!(rig.master_regs(&[id::REGMASTER_PCTIMEOUT], 2), [0x2c, 0x01]);
+    let sent = rig.micros() as f64;
+    assert_eq!(rig.exchange(&[0x03, 0x03, 0x07], 2), [0x2c, 0x01]);
+    // The master last heard the PC when the frame's third byte arrived.
+    let heard = sent + 3.0 * master_support::BYTE_US;
+    rig.bus.set_tracing(true);
+    rig.bus.take_trace();
+    for _ in 0..13 {
+        rig.bus.uart_send_framing_error(0, &[0x55]);
+        rig.run_us(50_000);
+    }
+    rig.bus.set_tracing(false);
+    let (to, first) = spread_targets(&mut rig);
+    assert_eq!(
+        to,
+        each_slave(2),
+        "at 300 and 600 ms: garbled bytes keep nothing running"
+    );
+    let after = (first - heard) / 1000.0;
+    println!("spread started {after:.1} ms after the last clean frame, through garbled bytes");
+    assert!((299.0..305.0).contains(&after), "{after} ms");
+    assert_eq!(rig.master_exception(), 0x000d, "PCSILENT");
+    // The garbled bytes were seen: the last error is a framing error (code 13).
+    assert_eq!(rig.master_regs(&[id::REGMASTER_LASTERROR], 1), [13]);
+}
+
+#[test]
 fn the_stop_repeats_while_the_pc_is_silent_and_spreads_even_over_another_exception() {
     let mut rig = Rig::new();
     // The master stays in its boot exception (not reset): the spread must still go out.
