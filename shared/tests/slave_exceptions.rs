@@ -361,7 +361,10 @@ fn exception_stops_motors_but_writes_are_applied() {
     bench.tick(&Inputs::default());
     bench.write_value(REGDS_STEER_PGAIN, 5.0);
     bench.write_value(REGDS_STEER_CALIBMIN, -100.0);
-    bench.tick(&Inputs::default());
+    // The pot reads 0, that is -100°, against a demand of 0: out of exception the steer
+    // would be at full duty within these ticks (its update comes every 2 ms).
+    let out = bench.ticks(5, &Inputs::default());
+    assert_eq!(out.motors, [MotorOutput::Stop; 2]);
     let steer = bench.core.motor(MotorId::M2);
     // 5 travels as raw 3276, which stands for 4.99893.
     assert!((steer.params.gains.p.to_num::<f64>() - 4.99893).abs() < 1e-4);

@@ -189,18 +189,42 @@ fn disabled_stall_type_is_not_raised() {
 
 #[test]
 fn power_on_level_is_120() {
-    // Gains written but STALLCHECK never: the power-on 120 applies.
+    // A P gain written but STALLCHECK never: the power-on 120 applies (the register reads
+    // 0x77, 119.47, so this tells 120 from what a read-back would suggest).
     let mut rig = DsRig::new();
-    rig.bench.write_value(REGDS_STEER_IGAIN, 2.0);
-    rig.bench.write_value(REGDS_STEER_INTEGRALCAP, 300.0);
-    rig.bench.write_value(REGDS_STEER_INTEGRALDECAY, 0.95);
+    rig.bench.write_value(REGDS_STEER_PGAIN, 3.0);
     rig.bench.write_value(REGDS_STEER_CALIBMIN, -56.0);
     rig.bench.write_value(REGDS_STEER_CALIBMAX, 66.0);
     rig.bench.write(REG_RESET, 1);
     rig.run_ms(10);
     rig.steer.held = true;
-    rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
-    run_until_exception(&mut rig, 3_000).expect("a stall");
+    // The demand creeps up 0.005° a ms from 35°, so the duty P·e passes 119, 120 and 121
+    // several ms apart.
+    let (mut above_119, mut above_120, mut raised) = (None, None, None);
+    for ms in 0..3_000u16 {
+        let demand = 35.0 + f32::from(ms) * 0.005;
+        rig.bench.write_value(REGDS_STEER_REQPOS, demand);
+        let duty = rig.tick().motors[1].duty();
+        if above_119.is_none() && duty > 119 {
+            above_119 = Some(ms);
+        }
+        if above_120.is_none() && duty > 120 {
+            above_120 = Some(ms);
+        }
+        if rig.bench.core.state().in_exception() {
+            raised = Some(ms);
+            break;
+        }
+    }
+    let (a119, a120) = (above_119.expect("duty 120"), above_120.expect("duty 121"));
+    let raised = raised.expect("a stall");
+    assert!(
+        a120 >= a119 + 10,
+        "120 reached at {a119} ms, 121 at {a120} ms"
+    );
+    // Suspect from the first duty above 120, raised 500 ms later.
+    let delay = raised - a120;
+    assert!((501..=505).contains(&delay), "{delay} ms after duty 121");
     assert_eq!(rig.bench.read(REG_EXCEPTIONDATA), 0x0105);
 }
 

@@ -348,28 +348,3 @@ fn register_file_is_small() {
     println!("RegisterFile: {size} bytes on the host");
     assert!(size <= 112, "{size}");
 }
-
-/// The power-up file holds exactly `boot_values`: each listed register its value (a
-/// one-byte register its low byte), every other id 0.
-#[test]
-fn a_new_file_holds_exactly_the_boot_values() {
-    use shared::slave::registers::boot_values;
-    for variant in [Variant::DriveSteer, Variant::LiftLift] {
-        let f = RegisterFile::new(variant);
-        let mut listed = 0;
-        for reg in 0..=u8::MAX {
-            let expected = match boot_values(variant).iter().find(|&&(r, _)| r == reg) {
-                Some(&(_, raw)) => {
-                    listed += 1;
-                    match variant.board().size_of(reg) {
-                        Some(1) => raw & 0xff,
-                        _ => raw,
-                    }
-                }
-                None => 0,
-            };
-            assert_eq!(f.get(reg), expected, "{variant:?} {reg}");
-        }
-        assert_eq!(listed, 12, "{variant:?}");
-    }
-}

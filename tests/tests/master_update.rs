@@ -6,6 +6,7 @@
 mod master_support;
 
 use master_support::{Rig, BYTE_US};
+use shared::regs::{id, BoardKind};
 
 /// The library's read-set frames: set 0 via each DS board, set 1 via each LL board,
 /// set 2 via the master.
@@ -33,6 +34,42 @@ fn configure(rig: &mut Rig) {
     assert_eq!(rig.exchange(&set2, 1), [0x0b]);
 }
 
+/// The read set the library configured on controller `dev`: set 0's ids on a DS board,
+/// set 1's on an LL board.
+fn set_ids(dev: u8) -> &'static [u8] {
+    const SET0: [u8; 20] = [
+        0x01, 0x02, 0x03, 0x05, 0x2c, 0x10, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16, 0x17, 0x21, 0x22,
+        0x23, 0x24, 0x25, 0x26, 0x27,
+    ];
+    const SET1: [u8; 18] = [
+        0x01, 0x02, 0x03, 0x05, 0x10, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16, 0x22, 0x23, 0x24, 0x25,
+        0x26, 0x27, 0x28,
+    ];
+    if dev.is_multiple_of(3) {
+        &SET1
+    } else {
+        &SET0
+    }
+}
+
+/// The reply controller `dev`'s model gives to its read set: each register's value, sized
+/// by the board's table, LSB first.
+fn expected_reply(rig: &Rig, dev: u8) -> Vec<u8> {
+    let kind = BoardKind::of_device(dev).unwrap();
+    let slave = rig.slave(dev);
+    let mut out = Vec::new();
+    for &reg in set_ids(dev) {
+        let value = match reg {
+            id::REG_STATUS => slave.status(),
+            id::REG_EXCEPTIONDATA => slave.exception_data,
+            _ => slave.regs[usize::from(reg)],
+        };
+        let size = usize::from(kind.register(reg).unwrap().size);
+        out.extend_from_slice(&value.to_le_bytes()[..size]);
+    }
+    out
+}
+
 /// One update: the ten frames in the library's order, each with its reply length.
 const UPDATE: [([u8; 3], usize); 10] = [
     ([0x03, 0x13, 0x00], 40),
@@ -51,17 +88,38 @@ const UPDATE: [([u8; 3], usize); 10] = [
 fn ten_updates_run_at_wire_speed() {
     let mut rig = Rig::new();
     configure(&mut rig);
+    // Every slave register a value of its own, so a reply from the wrong board, register or
+    // offset shows.
+    for dev in 1..=9u8 {
+        let mut slave = rig.slave(dev);
+        for (reg, v) in slave.regs.iter_mut().enumerate() {
+            *v = u16::from(dev) << 12 | (reg as u16) << 4 | 0x5;
+        }
+    }
     // Steady state: pings, liveness checks and temperature ticks are all running.
     rig.run_to(6_000_000);
     let start = rig.micros();
+    let mut replies = Vec::new();
     for _ in 0..10 {
         for (frame, n) in UPDATE {
             rig.bus.uart_send(0, &frame);
-            let reply = rig.read_exact(n, 200_000);
-            assert_eq!(reply.len(), n);
+            replies.push((frame[1] >> 4, rig.read_exact(n, 200_000)));
         }
     }
     let took = (rig.micros() - start) as f64;
+    // Each reply is its board's registers (the slave models do not change during the run:
+    // the master's pings and checks write nothing they read back).
+    for (dev, reply) in &replies {
+        if *dev == 0 {
+            // The master's set 2 ends with its EXCEPTIONDATA: the boot exception.
+            assert_eq!(reply[20..], [0x02, 0x00], "master: {reply:02x?}");
+        } else {
+            assert_eq!(*reply, expected_reply(&rig, *dev), "controller {dev}");
+        }
+    }
+    // Nothing more came: a stray byte would shift this reply.
+    let (frame, n) = UPDATE[9];
+    assert_eq!(rig.exchange(&frame, n)[20..], [0x02, 0x00]);
     let bytes: usize = UPDATE.iter().map(|(f, n)| f.len() + n).sum();
     let wire = 10.0 * bytes as f64 * BYTE_US;
     let rate = 10.0 / (took / 1e6);

@@ -224,11 +224,12 @@ fn twi_byte_task_costs() {
         reads.push(runs.iter().sum::<u64>());
         all.extend(runs);
     }
-    // A continued read of 12 bytes: DRIVE_ACTUALSPEED..DRIVE_CURRENT.
+    // A continued read of 12 bytes: DRIVE_ACTUALSPEED..DRIVE_CURRENT (timed only: what
+    // such a read returns is checked by `slave_registers`).
     let mut long_reads = Vec::new();
     for _ in 0..20 {
         let runs = twi_runs(&mut r, &tracker, |r| {
-            assert_eq!(r.read_bytes(id::REGDS_DRIVE_ACTUALSPEED, 12).len(), 12);
+            r.read_bytes(id::REGDS_DRIVE_ACTUALSPEED, 12);
         });
         assert!(runs.len() >= 15, "3 + 13 interrupts or so: {}", runs.len());
         long_reads.push(runs.iter().sum::<u64>());

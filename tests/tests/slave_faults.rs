@@ -315,6 +315,21 @@ fn a_pinged_board_left_silent_stops_its_motors_after_bustimeout() {
 }
 
 #[test]
+fn a_read_alone_restarts_the_silence_count() {
+    let mut r = pinged_and_driving(1);
+    r.run_us(2_000_000);
+    // 2 s into the silence, the master reads STATUS and writes nothing.
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008, "still driving");
+    let after = silent_until_stopped(&mut r, 4_000_000).expect("the motors stop");
+    // Counted from the read: 2.5 s after it, 4.5 s after the last write.
+    assert!(
+        (2_499_900..=2_502_000).contains(&after),
+        "stopped {after} µs after the read"
+    );
+    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
+}
+
+#[test]
 fn a_board_never_pinged_ignores_a_long_silence() {
     let mut r = running(2);
     send(&mut r, slave_support::DRIVE_GAINS);

@@ -275,14 +275,21 @@ fn a_pc_program_that_armed_the_silence_failsafe_and_hangs_gets_every_motor_stopp
     );
 }
 
-/// Whether every slave has both PWM outputs at duty 0, read from the chips' timers.
+/// The duty on a motor's PWM pin: the timer's, or with the timer off the pin's level (a
+/// pin left high without its timer drives the motor at full duty).
+fn duty(avr: &harness::Avr, pin: harness::Pin) -> f32 {
+    avr.pwm_duty(pin)
+        .unwrap_or(if avr.pin(pin) { 1.0 } else { 0.0 })
+}
+
+/// Whether every slave has both PWM outputs at duty 0, read from the chips.
 fn every_motor_stopped(s: &Session) -> bool {
     let mut twin = s.twin.borrow_mut();
     (1..=9usize).all(|chip| {
         twin.bus().chip(chip).is_some_and(|avr| {
             [harness::uno::D9, harness::uno::D10]
                 .iter()
-                .all(|&pin| avr.pwm_duty(pin).unwrap_or(0.0) == 0.0)
+                .all(|&pin| duty(&avr, pin) == 0.0)
         })
     })
 }
@@ -299,7 +306,7 @@ fn from_a_slave_fault_to_every_motor_stopped() {
     let chip_2_stopped = |s: &Session| {
         let mut twin = s.twin.borrow_mut();
         let avr = twin.bus().chip(2);
-        avr.is_some_and(|a| a.pwm_duty(harness::uno::D9).unwrap_or(0.0) == 0.0)
+        avr.is_some_and(|a| duty(&a, harness::uno::D9) == 0.0)
     };
     // An 8 A spike on wheel 2's drive (controller 2, motor 0): SHORTOC on that board.
     let at = s.twin.borrow().micros();
@@ -326,4 +333,10 @@ fn from_a_slave_fault_to_every_motor_stopped() {
     );
     assert!(local <= 2_000, "{local} us");
     assert!(all <= 1_100_000, "{all} us");
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
 }
