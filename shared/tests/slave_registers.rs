@@ -138,6 +138,42 @@ fn a_short_write_is_dropped() {
 }
 
 #[test]
+fn a_write_to_exceptiondata_cut_after_its_first_byte_still_counts() {
+    // Any write raises REMOTESLAVE (reference §2.1): the spread write `05 64 00` cut after
+    // `64` by a STOP, a bus error or a new START still marks the register.
+    let ends: [fn(&mut RegisterFile); 3] = [
+        RegisterFile::stop,
+        RegisterFile::start_write,
+        RegisterFile::start_read,
+    ];
+    for end in ends {
+        let mut f = RegisterFile::new(Variant::LiftLift);
+        f.start_write();
+        f.write(REG_EXCEPTIONDATA);
+        f.write(0x64);
+        end(&mut f);
+        assert_eq!(all_changed(&mut f), vec![REG_EXCEPTIONDATA]);
+    }
+    // The pointer alone is no write, and a complete write counts once.
+    let mut f = RegisterFile::new(Variant::DriveSteer);
+    f.start_write();
+    f.write(REG_EXCEPTIONDATA);
+    f.stop();
+    f.start_write();
+    for b in [REG_EXCEPTIONDATA, 0x64, 0x00] {
+        f.write(b);
+    }
+    f.stop();
+    assert_eq!(all_changed(&mut f), vec![REG_EXCEPTIONDATA]);
+    // Another register cut after its first byte is still dropped.
+    f.start_write();
+    f.write(REGDS_DRIVE_REQSPEED);
+    f.write(0x01);
+    f.start_write();
+    assert!(all_changed(&mut f).is_empty());
+}
+
+#[test]
 fn writes_to_read_only_registers_are_ignored() {
     let mut f = RegisterFile::new(Variant::DriveSteer);
     for id in [

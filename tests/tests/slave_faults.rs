@@ -167,6 +167,25 @@ fn a_write_to_exceptiondata_is_a_remote_exception() {
 }
 
 #[test]
+fn a_write_to_exceptiondata_cut_after_its_first_byte_still_stops_the_board() {
+    // The master's spread write `05 64 00` cut short after `64` (a master reset or a bus
+    // error mid-transfer): any write to EXCEPTIONDATA is a remote exception.
+    for addr in [1, 3] {
+        // The drive/steer board cruising, the lift/lift board holding.
+        let mut r = if addr == 1 {
+            pinged_and_driving(addr)
+        } else {
+            running(addr)
+        };
+        r.bus.write(addr, &[id::REG_EXCEPTIONDATA, 0x64]).unwrap();
+        r.run_us(3_000);
+        assert_eq!(r.read_raw(id::REG_STATUS) & 1, 1, "board {addr}");
+        assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), 0x0500 | REMOTE);
+        assert_stopped(&r);
+    }
+}
+
+#[test]
 fn reset_bit_1_is_a_hard_reset_through_the_watchdog() {
     let mut r = running(3);
     r.write_value(id::REGLL_ONE_PGAIN, 10.0);

@@ -4,8 +4,11 @@
 //! after it fill that register (its size, LSB first) and continue into the following
 //! registers. A register's value is committed, and marked changed, when its last byte
 //! arrives, so the tick never sees half of a two-byte value; a register left incomplete
-//! when the transaction ends is dropped. Bytes for a read-only register are skipped (the
-//! write continues with the next register); bytes for an id the table lacks are dropped.
+//! when the transaction ends is dropped. REG_EXCEPTIONDATA is marked at its first byte
+//! too: any write to it raises REMOTESLAVE (reference §2.1), whatever its value, so a
+//! spread write that a master reset or a bus error cut short still stops the board.
+//! Bytes for a read-only register are skipped (the write continues with the next
+//! register); bytes for an id the table lacks are dropped.
 //! An empty write (no byte, or only the pointer) changes no register: the emulator shows
 //! the STOP after a master read as an empty write. Writes to REG_RESET are OR-ed into
 //! it until the tick processes them, so two quick resets do not merge into one.
@@ -208,7 +211,8 @@ impl<B: Board> RegisterFile<B> {
         value
     }
 
-    /// TWI: STOP (or a bus error). An incomplete register is dropped.
+    /// TWI: STOP (or a bus error). An incomplete register is dropped (REG_EXCEPTIONDATA
+    /// was marked at its first byte).
     pub fn stop(&mut self) {
         self.phase = Phase::Idle;
     }
@@ -236,6 +240,10 @@ impl<B: Board> RegisterFile<B> {
                 id: reg,
                 byte: index + 1,
             };
+            if reg == id::REG_EXCEPTIONDATA {
+                // Only the mark: the tick acts on the write, not on the value.
+                self.changed[EXCEPTION_DATA_MARK.0] |= EXCEPTION_DATA_MARK.1;
+            }
         }
     }
 
@@ -275,6 +283,12 @@ impl Changes {
         None
     }
 }
+
+/// REG_EXCEPTIONDATA's change mark: its byte and bit.
+const EXCEPTION_DATA_MARK: (usize, u8) = (
+    (id::REG_EXCEPTIONDATA >> 3) as usize,
+    1 << (id::REG_EXCEPTIONDATA & 7),
+);
 
 /// The byte and bit of a register's change mark.
 fn mark(reg: u8) -> Option<(usize, u8)> {
