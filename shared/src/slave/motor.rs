@@ -366,6 +366,7 @@ impl Motor {
                 monitors: Monitors::POWER_ON,
                 mapped_from: MappedFrom::POWER_ON,
                 fresh: true,
+                last_duty: 0,
             },
             current: CurrentFilter::new(),
             level: CurrentFilter::new(),
@@ -650,6 +651,9 @@ struct Track {
     mapped_from: MappedFrom,
     /// The mapped monitoring values changed since [`Motor::take_fresh`] last ran.
     fresh: bool,
+    /// The duty of the last update outside an exception: what CONTROL shows, also through
+    /// an exception that began between two mappings.
+    last_duty: u8,
 }
 
 // On the AVR (every field 1-aligned) a field's last byte is within `LDD`/`STD` reach,
@@ -690,6 +694,10 @@ impl Track {
         // monitoring registers are refreshed from every update at most every 10 ms: the
         // time since the last mapping (saturating, so at least the period whenever the
         // exact sum is).
+        // A duty, not NO_CONTROL: the last one applied.
+        if let Ok(duty) = u8::try_from(control) {
+            self.last_duty = duty;
+        }
         let since = self.since_mapped.saturating_add(gap);
         self.since_mapped = since;
         if since >= MONITOR_PERIOD {
@@ -721,12 +729,10 @@ impl Track {
                 from.interval_ms = interval_ms;
                 raw[5] = INTERVAL_MAP.map_int(interval_ms);
             }
-            // A duty (not NO_CONTROL) that changed.
-            if let Ok(duty) = u8::try_from(control) {
-                if from.duty != duty {
-                    from.duty = duty;
-                    raw[4] = CONTROL_MAP.map_int(control);
-                }
+            let duty = self.last_duty;
+            if from.duty != duty {
+                from.duty = duty;
+                raw[4] = CONTROL_MAP.map_int(u16::from(duty));
             }
         }
     }
@@ -1058,6 +1064,38 @@ mod tests {
             let now = CONTROL.map_int(u16::from(m.demand().magnitude));
             assert_eq!(m.monitors().raw[4], now, "{kind:?}");
         }
+    }
+
+    #[test]
+    fn control_shows_the_last_duty_applied_before_an_exception_between_mappings() {
+        // A position motor updates every 2 ms; its monitoring values are mapped every
+        // 10 ms. Its duty rises after a mapping and an exception comes before the next:
+        // CONTROL must show the last duty applied, not the one last mapped.
+        let mut m = Motor::new(Kind::Position);
+        m.start(0);
+        m.set_param(Kind::Position, Param::P, 0x0800);
+        m.params.required = Fix::from_num(40);
+        let cx = |ms: u32, in_exception| UpdateContext {
+            now_us: 1_000 * ms,
+            now_ms: ms,
+            in_exception,
+            fault_time_ms: 500,
+        };
+        m.update(Fix::ZERO, &cx(20, false));
+        let mapped = m.monitors().raw[4];
+        assert_eq!(mapped, CONTROL.map_int(u16::from(m.demand().magnitude)));
+        // The actual angle falls away: the duty rises, unmapped for now.
+        m.update(Fix::from_num(-10), &cx(22, false));
+        m.update(Fix::from_num(-20), &cx(24, false));
+        let last = m.demand().magnitude;
+        assert_eq!(m.monitors().raw[4], mapped, "not mapped within 10 ms");
+        assert_ne!(CONTROL.map_int(u16::from(last)), mapped);
+        // The exception, then the updates in it until the next mapping.
+        for ms in [26, 28, 30, 32] {
+            m.update(Fix::from_num(-20), &cx(ms, true));
+        }
+        assert!(m.take_fresh(), "mapped at 30 ms");
+        assert_eq!(m.monitors().raw[4], CONTROL.map_int(u16::from(last)));
     }
 
     #[test]
