@@ -129,7 +129,7 @@ mod tests {
 
     #[test]
     fn wheel_1_steer_calibration_is_what_the_slave_holds() {
-        let pot = Pot::steer(1).unwrap_or(Pot::new(0.0, 0.0));
+        let pot = Pot::steer(1).expect("wheel 1 has a steer pot");
         assert!((pot.min_deg() - -56.6929).abs() < 1e-4);
         assert!((pot.max_deg() - 65.1969).abs() < 1e-4);
         let lift = Pot::lift(2).unwrap_or(Pot::new(0.0, 0.0));
@@ -140,7 +140,7 @@ mod tests {
 
     #[test]
     fn calibration_ends_map_onto_the_adc_range() {
-        let pot = Pot::steer(1).unwrap_or(Pot::new(0.0, 0.0));
+        let pot = Pot::steer(1).expect("wheel 1 has a steer pot");
         assert_eq!(pot.mv(f64::from(pot.min_deg())), 0.0);
         assert_eq!(pot.mv(f64::from(pot.max_deg())), ADC_REF_MV);
         assert_eq!(pot.mv(-90.0), 0.0, "clamped below");
@@ -152,8 +152,10 @@ mod tests {
 
     #[test]
     fn firmware_angle_equals_physical_angle_within_one_step() {
+        let mut checked = 0;
         for wheel in 1..=6 {
-            for pot in [Pot::steer(wheel), Pot::lift(wheel)].into_iter().flatten() {
+            let pots = [Pot::steer(wheel), Pot::lift(wheel)];
+            for pot in pots.map(|p| p.expect("wheels 1..6 have both pots")) {
                 let step = f64::from(pot.max_deg() - pot.min_deg()) / 1024.0;
                 let (lo, hi) = pot.end_stops();
                 let mut angle = lo;
@@ -165,20 +167,48 @@ mod tests {
                     );
                     assert!((pot.angle_at_mv(pot.mv(angle)) - angle).abs() < 1e-9);
                     angle += 0.37;
+                    checked += 1;
                 }
             }
         }
+        // Six steers over ~112° and six lifts over ~205°, every 0.37°.
+        assert!(checked > 6 * 290 + 6 * 540, "{checked} angles");
     }
 
     #[test]
     fn end_stops_sit_inside_the_calibration_and_outside_the_pc_limits() {
-        for wheel in 1..=6 {
-            let pot = Pot::steer(wheel).unwrap_or(Pot::new(0.0, 0.0));
+        // Reference §8.3: the steer calibration each wheel is sent, and the value the slave
+        // holds (min, max).
+        let sent = [
+            (-56.0, 66.0),
+            (-62.0, 59.0),
+            (-59.0, 64.0),
+            (-60.0, 65.0),
+            (-66.0, 57.0),
+            (-62.0, 60.0),
+        ];
+        let held = [
+            (-56.69, 65.20),
+            (-62.36, 58.58),
+            (-59.53, 63.31),
+            (-60.47, 64.25),
+            (-66.14, 56.69),
+            (-62.36, 59.53),
+        ];
+        for (wheel, ((smin, smax), (hmin, hmax))) in (1..=6u8).zip(sent.into_iter().zip(held)) {
+            let pot = Pot::steer(wheel).expect("wheels 1..6 have a steer pot");
+            assert!((f64::from(pot.min_deg()) - hmin).abs() < 0.01, "{wheel}");
+            assert!((f64::from(pot.max_deg()) - hmax).abs() < 0.01, "{wheel}");
             let (lo, hi) = pot.end_stops();
-            assert!(lo > f64::from(pot.min_deg()) && hi < f64::from(pot.max_deg()));
-            // The PC accepts calibMin + 10 .. calibMax − 10 (§8.4): all reachable.
-            assert!(lo < f64::from(pot.min_deg()) + 10.0 && hi > f64::from(pot.max_deg()) - 10.0);
+            assert!(lo > hmin && hi < hmax, "{wheel}: stops {lo} {hi}");
+            // The PC accepts calibMin + 10 .. calibMax − 10 of what it sent (§8.4): all
+            // reachable between the stops.
+            assert!(
+                lo < smin + 10.0 && hi > smax - 10.0,
+                "{wheel}: stops {lo} {hi}"
+            );
         }
+        assert_eq!(Pot::steer(7).map(|p| p.min_deg()), None);
     }
 
     #[test]

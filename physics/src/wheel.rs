@@ -337,15 +337,14 @@ mod tests {
         );
         assert_eq!(mv[7], Some(2500.0));
         assert_eq!(mv[2], None);
-        let pot0 = mv[6].unwrap_or(0.0);
+        let pot0 = mv[6].expect("the steer pot on ADC6");
         let edges = board.advance(0.1);
         assert!(edges.len() > 100);
         let mv = board.adc_mv();
-        assert!(
-            mv[6].unwrap_or(0.0) > pot0 + 200.0,
-            "steer turned towards max"
-        );
-        assert!(mv[0].map(adc_reading).unwrap_or(0) < 200);
+        let pot1 = mv[6].expect("the steer pot on ADC6");
+        assert!(pot1 > pot0 + 200.0, "steer turned towards max");
+        let drive_current = mv[0].map(adc_reading).expect("the drive current on ADC0");
+        assert!(drive_current < 200, "{drive_current}");
         assert!(board.encoder_levels().is_some());
         // The second DS board of a pair has no chassis pot.
         assert_eq!(SlaveBoardModel::for_controller(2)?.adc_mv()[7], None);

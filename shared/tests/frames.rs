@@ -162,7 +162,6 @@ fn library_read_set_frames() {
         encode_set_read_set(device, set, ids, &mut out).unwrap();
         assert_eq!(out.as_slice(), hex(reference).as_slice());
         // The master's reply is the id count, (L - 3) mod 256.
-        assert_eq!(ids.len(), usize::from(reply));
         assert_eq!(usize::from(out[0]) - 3, usize::from(reply));
         let Request::SetReadSet {
             device: d,

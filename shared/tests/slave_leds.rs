@@ -100,7 +100,11 @@ fn debugled_0_and_1_light_one_led_for_250_ms_other_values_nothing() {
     bench.write(REG_DEBUGLED, 1);
     let t = trace(&mut bench, 300);
     assert!(t[..250].iter().all(|l| l.led2));
-    assert!(t[250..].iter().all(|l| !l.led1));
+    assert!(
+        lit_for(&t[250..], |l| l.led2) <= 1,
+        "only a heartbeat after"
+    );
+    assert_eq!(lit_for(&t, |l| l.led1), 0, "LED1 stays dark");
     bench.write(REG_DEBUGLED, 2);
     let t = trace(&mut bench, 300);
     assert_eq!(lit_for(&t, |l| l.led1), 0);

@@ -154,6 +154,7 @@ fn before_any_conversion_a_sensor_reads_85_degrees() {
     bus.set_conversion_us(10_000_000);
     let pass = next_pass(&mut avr);
     assert_eq!(pass.conv_polls, Some(2000));
+    assert_eq!((pass.roms.len(), pass.readings.len()), (10, 10));
     for (_, rest) in &pass.readings {
         assert_eq!(rest, &format!("{} crc=ok T=+85.0", hex(&pad(170))));
     }

@@ -76,6 +76,11 @@ fn adc_input_keeps_its_value_when_reapplied() {
     let mut avr = Avr::firmware("fixture_pins").unwrap();
     avr.set_adc_mv(3, 1234);
     avr.set_adc_mv(3, 1234);
+    assert_eq!(
+        avr.adc_input_mv(3),
+        Some(1234),
+        "the same value again keeps it"
+    );
     avr.set_adc_mv(3, 2000);
     avr.set_adc_mv(9, 5);
     assert_eq!(avr.adc_input_mv(3), Some(2000));

@@ -141,6 +141,7 @@ fn byte_time_is_90_us_at_100_khz_and_22_5_us_at_400_khz() {
     assert_eq!(command(&mut bus, "f 0c 00"), "ok\n");
     assert_eq!(command(&mut bus, "w 40 00 01 02 03 04"), "ok\n");
     let gaps = write_gaps(&bus.take_trace());
+    assert_eq!(gaps.len(), 4);
     for gap in &gaps {
         assert!((360..=360 + 80).contains(gap), "400 kHz gaps {gaps:?}");
     }

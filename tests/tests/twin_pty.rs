@@ -200,6 +200,7 @@ fn closing_the_port_stops_a_rover_left_driving() {
         assert_eq!(*a, b + 1, "one hard reset each: {before:?} -> {after:?}");
     }
     let coasting = drive_speeds(&control);
+    assert_eq!(coasting.len(), 6, "{coasting:?}");
     for (d, c) in driving.iter().zip(&coasting) {
         assert!(*c < d * 0.7, "coasting down: {driving:?} -> {coasting:?}");
     }

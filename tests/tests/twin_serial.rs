@@ -48,16 +48,26 @@ fn a_byte_lost_towards_the_host_shortens_the_reply() {
     assert_eq!(r.serial().dropped(Direction::ToHost), 2);
 }
 
+/// What the twin does when a program opens its port (the open itself, through a pty, is
+/// `twin_pty`'s `a_serial_program_sees_the_banner_after_each_open`).
 #[test]
-fn opening_the_port_resets_the_master() {
+fn a_master_reset_reboots_it_with_the_banner_and_hard_resets_every_slave() {
     let mut r = booted();
     r.run_us(100_000).unwrap();
+    let before = r.watchdog_resets();
     r.reset_master();
     let banner = r.uart_read_until(b"Ready\r\n", 3_000_000).unwrap();
     assert!(banner.starts_with(b"Starting\r\n"), "{banner:?}");
-    assert_eq!(
-        r.watchdog_resets()[0],
-        0,
-        "an external reset, not the watchdog"
-    );
+    r.run_us(1_500_000).unwrap();
+    let after = r.watchdog_resets();
+    assert_eq!(after[0], before[0], "an external reset, not the watchdog");
+    // The master's boot writes REG_RESET = 2 to every slave: each reboots through its
+    // watchdog once.
+    for chip in 1..=9 {
+        assert_eq!(
+            after[chip],
+            before[chip] + 1,
+            "controller {chip}: {before:?} -> {after:?}"
+        );
+    }
 }
