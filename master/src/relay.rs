@@ -65,8 +65,9 @@ impl SlaveBus for TwiRelay {
 
 /// The relay while it serves one PC frame: the watchdog is fed before every access, and
 /// the last access's slave and result are kept, so the frame can be reported to the
-/// schedule as evidence of that slave's liveness (a frame addresses one slave, and its
-/// execution stops at the first access that fails).
+/// schedule as evidence of that slave's liveness (a frame addresses one slave; a read
+/// stops at the first access that fails, a write frame goes on with its other writes,
+/// and a slave that took a later one answered).
 pub struct Watched<'a> {
     relay: &'a mut TwiRelay,
     watchdog: &'a Watchdog,

@@ -93,7 +93,9 @@ impl Service {
     }
 
     /// A write frame: a frame with a read-only register writes nothing (the parser found
-    /// them while validating); otherwise the writes are applied in order.
+    /// them while validating); otherwise the writes are applied in order. A write the
+    /// slave does not take does not stop the ones after it (a stop frame's REQSPEED still
+    /// goes out, as the original sent every write); the reply then says one failed.
     fn write(
         &mut self,
         device: u8,
@@ -107,16 +109,19 @@ impl Service {
         if writes.any_read_only() {
             return Err(LinkError::ReadOnly);
         }
+        let mut answered = Ok(());
         while let Some((w, size)) = writes.next_sized() {
             if device == 0 {
                 self.local.write(w.id, w.raw);
             } else {
                 let bytes = w.raw.to_le_bytes();
                 let value = bytes.get(..usize::from(size)).unwrap_or(&bytes);
-                bus.write_register(device, w.id, value)
-                    .map_err(|_| LinkError::NoAnswer)?;
+                if bus.write_register(device, w.id, value).is_err() {
+                    answered = Err(LinkError::NoAnswer);
+                }
             }
         }
+        answered?;
         reply(0);
         Ok(())
     }

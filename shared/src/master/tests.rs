@@ -11,11 +11,13 @@ struct FakeBus {
     writes: Vec<(u8, u8, Vec<u8>)>,
     reads: Vec<(u8, u8, usize)>,
     silent: Vec<u8>,
+    /// (device, register) writes that are not acknowledged.
+    refused: Vec<(u8, u8)>,
 }
 
 impl SlaveBus for FakeBus {
     fn write_register(&mut self, device: u8, id: u8, value: &[u8]) -> Result<(), BusError> {
-        if self.silent.contains(&device) {
+        if self.silent.contains(&device) || self.refused.contains(&(device, id)) {
             return Err(BusError);
         }
         self.writes.push((device, id, value.to_vec()));
@@ -226,6 +228,28 @@ fn oversize_set_gets_an_error_reply_that_no_count_can_equal() {
         [0u8; 0],
         "set 3 stayed empty"
     );
+}
+
+#[test]
+fn a_write_the_slave_refuses_does_not_stop_the_writes_after_it() {
+    // An emergency stop's frame for wheel 1's drive: P, I, then REQSPEED 0 (0x7fff), with
+    // I's write not acknowledged.
+    let (mut s, mut bus) = (Master::default(), FakeBus::default());
+    bus.refused.push((1, 0x0b));
+    let frame = [
+        0x0c, 0x12, 0x03, 0x0a, 0x00, 0x00, 0x0b, 0x00, 0x00, 0x09, 0xff, 0x7f,
+    ];
+    assert_eq!(
+        run(&mut s, &mut bus, &frame),
+        [0x8c],
+        "the failure reported"
+    );
+    assert_eq!(
+        bus.writes,
+        [(1, 0x0a, vec![0x00, 0x00]), (1, 0x09, vec![0xff, 0x7f])],
+        "the demand still written"
+    );
+    assert_eq!(s.local.last_error(), Some(LinkError::NoAnswer));
 }
 
 #[test]
