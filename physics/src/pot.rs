@@ -177,16 +177,8 @@ mod tests {
 
     #[test]
     fn end_stops_sit_inside_the_calibration_and_outside_the_pc_limits() {
-        // Reference §8.3: the steer calibration each wheel is sent, and the value the slave
-        // holds (min, max).
-        let sent = [
-            (-56.0, 66.0),
-            (-62.0, 59.0),
-            (-59.0, 64.0),
-            (-60.0, 65.0),
-            (-66.0, 57.0),
-            (-62.0, 60.0),
-        ];
+        // Reference §8.3: the value the slave holds of the calibration each wheel is sent
+        // (STEER_CALIBRATION_DEG), typed in from the reference's table (min, max).
         let held = [
             (-56.69, 65.20),
             (-62.36, 58.58),
@@ -195,6 +187,7 @@ mod tests {
             (-66.14, 56.69),
             (-62.36, 59.53),
         ];
+        let sent = STEER_CALIBRATION_DEG.map(|(min, max)| (f64::from(min), f64::from(max)));
         for (wheel, ((smin, smax), (hmin, hmax))) in (1..=6u8).zip(sent.into_iter().zip(held)) {
             let pot = Pot::steer(wheel).expect("wheels 1..6 have a steer pot");
             assert!((f64::from(pot.min_deg()) - hmin).abs() < 0.01, "{wheel}");

@@ -29,6 +29,18 @@ fn spread_targets(rig: &mut Rig) -> (Vec<u8>, f64) {
     (to, first)
 }
 
+/// Stops tracing and checks the spread since the trace was last taken: `times` writes to
+/// each slave, the first starting 300 ms (on the master's 1-ms clock, plus its loop's
+/// latency) after the PC was last heard at `heard` µs; prints that delay.
+fn spread_after(rig: &mut Rig, heard: f64, times: usize, what: &str) {
+    rig.bus.set_tracing(false);
+    let (to, first) = spread_targets(rig);
+    assert_eq!(to, each_slave(times), "{what}");
+    let after = (first - heard) / 1000.0;
+    println!("spread started {after:.1} ms after the PC was last heard ({what})");
+    assert!((299.0..305.0).contains(&after), "{after} ms");
+}
+
 /// Each of the nine slaves `times` times, in address order.
 fn each_slave(times: usize) -> Vec<u8> {
     (1..=9)
@@ -74,18 +86,8 @@ fn a_pc_silent_for_the_timeout_gets_the_stop_spread_to_every_slave() {
     // The master last heard the PC when the frame's third byte arrived.
     let heard = sent + 3.0 * master_support::BYTE_US;
     rig.run_us(1_000_000);
-    rig.bus.set_tracing(false);
-    let (to, first) = spread_targets(&mut rig);
     // At 300, 600 and 900 ms of silence.
-    assert_eq!(
-        to,
-        each_slave(3),
-        "a spread write to each slave every 300 ms"
-    );
-    let after = (first - heard) / 1000.0;
-    println!("spread started {after:.1} ms after the PC was last heard");
-    // 300 ms on the master's 1-ms clock, plus its loop's latency.
-    assert!((299.0..305.0).contains(&after), "{after} ms");
+    spread_after(&mut rig, heard, 3, "a write to each slave every 300 ms");
     assert_eq!(rig.master_exception(), 0x000d, "PCSILENT, slave 0, motor 0");
 }
 
@@ -107,16 +109,8 @@ fn bytes_with_serial_errors_do_not_count_as_the_pc_heard() {
         rig.bus.uart_send_framing_error(0, &[0x55]);
         rig.run_us(50_000);
     }
-    rig.bus.set_tracing(false);
-    let (to, first) = spread_targets(&mut rig);
-    assert_eq!(
-        to,
-        each_slave(2),
-        "at 300 and 600 ms: garbled bytes keep nothing running"
-    );
-    let after = (first - heard) / 1000.0;
-    println!("spread started {after:.1} ms after the last clean frame, through garbled bytes");
-    assert!((299.0..305.0).contains(&after), "{after} ms");
+    // At 300 and 600 ms: garbled bytes keep nothing running.
+    spread_after(&mut rig, heard, 2, "through a garbled byte every 50 ms");
     assert_eq!(rig.master_exception(), 0x000d, "PCSILENT");
     // The garbled bytes were seen: the last error is a framing error (code 13).
     assert_eq!(rig.master_regs(&[id::REGMASTER_LASTERROR], 1), [13]);
