@@ -6,10 +6,11 @@
 //! - Idle ([`RemoteControl`]) turns the counts into a µs timeline, measures the pulses,
 //!   keeps the link state on its millisecond clock, sends the first link-up's writes once
 //!   per boot (one per idle loop, so the PC link and the schedule are served in
-//!   between), then one pass every [`PASS_PERIOD_MS`](shared::master::rc::PASS_PERIOD_MS) while the link is up: REQSPEED and
-//!   STEER_REQPOS to the six drive/steer boards; and one more when the link is lost (no
-//!   edge for 1 s), with drive and steer centred: REQSPEED 0, the steering left as it
-//!   was (new: the original left the drives on the last pass's speed).
+//!   between), then one pass every
+//!   [`PASS_PERIOD_MS`](shared::master::rc::PASS_PERIOD_MS) while the link is up:
+//!   REQSPEED and STEER_REQPOS to the six drive/steer boards; and one more when the link
+//!   is lost (no edge for 1 s), with drive and steer centred: REQSPEED 0, the steering
+//!   left as it was (new: the original left the drives on the last pass's speed).
 //!
 //! **Pass rate.** The original ran a pass per main-loop pass, and its loop, carrying
 //! twelve 100-kHz I2C writes, took about 5 ms: the steer integrator (0.03° per pass)

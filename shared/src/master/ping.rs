@@ -44,8 +44,9 @@
 //! L + B + 8·R + 2·T after its last answer, where B is the longest time the firmware spends
 //! between two polls (one PC frame, up to ~15 ms for a 24-register read, or one
 //! temperature tick, ~16 ms of OneWire), R ≈ 0.65 ms is one status read at 100 kHz (less
-//! at the firmware's 400 kHz; up to eight other stale slaves may be checked first) and T is the I2C driver's timeout (a
-//! missing ACK costs ~0.1 ms; 1 ms assumed), paid for the failed read and the re-check.
+//! at the firmware's 400 kHz; up to eight other stale slaves may be checked first) and T
+//! is the I2C driver's timeout (a missing ACK costs ~0.1 ms; 1 ms assumed), paid for the
+//! failed read and the re-check.
 //! The spread is then 8 writes of ~0.4 ms. With B = 16 ms: 16 + 16 + 5.2 + 2 + 3.2 ≈ 42 ms,
 //! leaving the slaves ≥ 8 ms of the 50-ms goal to act on the write. A firmware that also
 //! polls between the register accesses of a long PC frame shrinks B to one transfer.

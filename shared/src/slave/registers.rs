@@ -285,15 +285,19 @@ impl Changes {
 }
 
 /// REG_EXCEPTIONDATA's change mark: its byte and bit.
-const EXCEPTION_DATA_MARK: (usize, u8) = (
-    (id::REG_EXCEPTIONDATA >> 3) as usize,
-    1 << (id::REG_EXCEPTIONDATA & 7),
-);
+const EXCEPTION_DATA_MARK: (usize, u8) = match mark(id::REG_EXCEPTIONDATA) {
+    Some(m) => m,
+    None => panic!("REG_EXCEPTIONDATA has a change mark"),
+};
 
 /// The byte and bit of a register's change mark.
-fn mark(reg: u8) -> Option<(usize, u8)> {
-    let byte = usize::from(reg >> 3);
-    (byte < MARK_BYTES).then(|| (byte, 1u8 << (reg & 7)))
+const fn mark(reg: u8) -> Option<(usize, u8)> {
+    let byte = (reg >> 3) as usize;
+    if byte < MARK_BYTES {
+        Some((byte, 1u8 << (reg & 7)))
+    } else {
+        None
+    }
 }
 
 /// Power-up raw values that are not zero (reference §8.1), including the quirks PC
