@@ -54,8 +54,18 @@ mod tests {
     /// The ms at which `due` returned true, called every ms from `from` to `to` with
     /// `heard` at each.
     fn trips(w: &mut PcWatch, from: u32, to: u32, timeout: u16, heard: bool) -> Vec<u32> {
-        (from..to)
-            .filter(|&t| w.due(t as u16, timeout, heard))
+        trips_at(w, from..to, timeout, |_| heard)
+    }
+
+    /// The ms at which `due` returned true, called at each of `times` with `heard(t)`.
+    fn trips_at(
+        w: &mut PcWatch,
+        times: impl Iterator<Item = u32>,
+        timeout: u16,
+        heard: impl Fn(u32) -> bool,
+    ) -> Vec<u32> {
+        times
+            .filter(|&t| w.due(t as u16, timeout, heard(t)))
             .collect()
     }
 
@@ -84,19 +94,14 @@ mod tests {
         let mut w = PcWatch::new();
         assert!(!w.due(0, 300, true));
         // Checked every 7 ms: the first check at or past 300 ms acts.
-        let tripped: Vec<u32> = (1..100u32)
-            .map(|k| 7 * k)
-            .filter(|&t| w.due(t as u16, 300, false))
-            .collect();
+        let tripped = trips_at(&mut w, (1..100u32).map(|k| 7 * k), 300, |_| false);
         assert_eq!(tripped[..2], [301, 602]);
     }
 
     #[test]
     fn a_pc_heard_more_often_than_the_timeout_never_trips_it() {
         let mut w = PcWatch::new();
-        let tripped: Vec<u32> = (0..20_000u32)
-            .filter(|&t| w.due(t as u16, 300, t % 299 == 0))
-            .collect();
+        let tripped = trips_at(&mut w, 0..20_000u32, 300, |t| t % 299 == 0);
         assert!(tripped.is_empty(), "{tripped:?}");
     }
 
