@@ -32,9 +32,40 @@ const KNOTS: [u16; 41] = [
     1566, 1588, 1611, 1633, 1655, 1676, 1698,
 ];
 
+/// Knot n rises about 32 cdeg (half the step) a knot: the firmware keeps knot n as
+/// `LINE_BASE + 32·n + OFFSETS[n]`, one byte of table a knot instead of two.
+const LINE_SLOPE_SHIFT: u32 = 5;
+// 32·index is then `(k >> 1)` with its low five bits cleared.
+const _: () = assert!(LINE_SLOPE_SHIFT + 1 == KNOT_SHIFT);
+/// The lowest of `KNOTS[n] − 32·n` (at the last knot), so every offset is ≥ 0.
+const LINE_BASE: u16 = {
+    let mut base = u16::MAX;
+    let mut n = 0;
+    while n < KNOTS.len() {
+        let v = KNOTS[n] - ((n as u16) << LINE_SLOPE_SHIFT);
+        if v < base {
+            base = v;
+        }
+        n += 1;
+    }
+    base
+};
+/// `KNOTS[n] − 32·n − LINE_BASE`, 0..=147; a value past a byte fails the build.
+const OFFSETS: [u8; 41] = {
+    let mut out = [0; 41];
+    let mut n = 0;
+    while n < KNOTS.len() {
+        let v = KNOTS[n] - ((n as u16) << LINE_SLOPE_SHIFT) - LINE_BASE;
+        assert!(v <= u8::MAX as u16);
+        out[n] = v as u8;
+        n += 1;
+    }
+    out
+};
+
 crate::flash_table! {
-    /// [`KNOTS`] as the firmware reads it, kept in flash on the AVR.
-    static KNOTS_FLASH: [u16; 41] = KNOTS;
+    /// [`OFFSETS`] as the firmware reads it, kept in flash on the AVR.
+    static OFFSETS_FLASH: [u8; 41] = OFFSETS;
 }
 
 /// The knots, for the host test that checks them against f64.
@@ -59,10 +90,15 @@ pub fn inner_angle(outer: i16) -> i16 {
     }
     let k = a.min(LIMIT_CDEG) - ACKERMANN_MIN_CDEG as u16;
     let index = usize::from(k >> KNOT_SHIFT);
-    let below = KNOTS_FLASH.get(index).unwrap_or(0);
-    let above = KNOTS_FLASH.get(index + 1).unwrap_or(below);
-    // Both below 64, so the product is one 8×8 `mul` on the chip.
-    let rise = (above - below) as u8;
+    let low = OFFSETS_FLASH.get(index).unwrap_or(0);
+    let high = OFFSETS_FLASH.get(index + 1).unwrap_or(low);
+    // 32·index is k's bits above the knot step, halved.
+    let below = LINE_BASE + ((k >> 1) & !((1 << LINE_SLOPE_SHIFT) - 1)) + u16::from(low);
+    // The rise is 21..=49 (so the byte arithmetic's wraps cancel), and the fraction
+    // below 64: the product is one 8×8 `mul` on the chip.
+    let rise = (1u8 << LINE_SLOPE_SHIFT)
+        .wrapping_add(high)
+        .wrapping_sub(low);
     let frac = (k % KNOT_STEP_CDEG) as u8;
     let step = (u16::from(rise) * u16::from(frac) + KNOT_STEP_CDEG / 2) >> KNOT_SHIFT;
     // ≤ 1698, so it fits an i16.
