@@ -448,7 +448,7 @@ fn a_temperature_the_master_has_not_read_is_no_reading() {
         o.out,
         "device 0 REGMASTER_TEMPAMBIENT: no reading (raw 0x2aaa): not read yet: the master \
          reads one sensor every 2 s from 5 s after boot, and opening the port rebooted it; or \
-         the sensor is missing\n"
+         the sensor is missing, or its last read failed\n"
     );
     let o = hostctl("--json read 0 tempambient", &unread);
     assert_eq!(
@@ -629,7 +629,7 @@ fn watch_table_redraws_in_place_on_a_terminal() {
          \x20           degC\x1b[K\n\
          0              -\x1b[K\n\
          - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
-         boot, and opening the port rebooted it; or the sensor is missing\x1b[K\n\
+         boot, and opening the port rebooted it; or the sensor is missing, or its last read failed\x1b[K\n\
          \x1b[J"
     );
 }
@@ -739,7 +739,7 @@ fn watch_standard_sets_1_and_2_match_the_library() {
          0         21.498      -      -      -      -      -      -      -      -      -  \
          \x20        5121\n\
          - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
-         boot, and opening the port rebooted it; or the sensor is missing\n"
+         boot, and opening the port rebooted it; or the sensor is missing, or its last read failed\n"
     );
 }
 

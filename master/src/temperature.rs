@@ -132,8 +132,8 @@ impl Temperatures {
     }
 
     /// Performs the next step of the tick under way, if any; a finished read lands in
-    /// device 0's temperatures (ambient first, then controllers 1..9) unless its CRC is
-    /// wrong.
+    /// device 0's temperatures (ambient first, then controllers 1..9), or, with a wrong
+    /// CRC, marks that sensor as holding no reading.
     #[inline(never)]
     pub fn step(&mut self, wire: &mut OneWire, local: &mut LocalRegisters) {
         let job = &mut self.job;
@@ -175,9 +175,7 @@ impl Temperatures {
                     *slot = byte;
                 }
                 if last {
-                    if let Ok(raw) = reading(&job.pad) {
-                        local.set_temperature(id, raw);
-                    }
+                    local.set_temperature(id, reading(&job.pad).ok());
                 }
             }
         }

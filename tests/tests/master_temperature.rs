@@ -2,7 +2,7 @@
 //! DS18S20s on D6, found at boot; each tick (every 2 s from 5 s) reads one and starts a
 //! conversion on the next, so after 2·D s every TEMP register holds map(T) over
 //! −20..100. A sensor missing from the bus raises type 10 on the master, spread to all
-//! nine slaves.
+//! nine slaves; one that stops answering after boot reads as no reading until it is back.
 
 mod master_support;
 
@@ -87,4 +87,67 @@ fn a_missing_sensor_raises_type_10_and_spreads_it_to_all_nine() {
             "slave {addr} gets the spreading write"
         );
     }
+}
+
+/// TEMP1 and REGMASTER_TEMPSREAD.
+fn temp1_and_read_bits(rig: &mut Rig) -> (u16, u16) {
+    let v = rig.master_regs(&[2, 14], 4);
+    (
+        u16::from_le_bytes([v[0], v[1]]),
+        u16::from_le_bytes([v[2], v[3]]),
+    )
+}
+
+/// Runs in steps of 0.5 s, up to `limit_s`, until `done` holds for TEMP1 and the read
+/// bits; returns them and the seconds it took.
+fn run_until(
+    rig: &mut Rig,
+    limit_s: u32,
+    done: impl Fn(u16, u16) -> bool,
+) -> Option<(u16, u16, f64)> {
+    for half_s in 1..=2 * limit_s {
+        rig.run_us(500_000);
+        let (temp, bits) = temp1_and_read_bits(rig);
+        if done(temp, bits) {
+            return Some((temp, bits, f64::from(half_s) / 2.0));
+        }
+    }
+    None
+}
+
+#[test]
+fn a_sensor_unplugged_after_boot_reads_as_no_reading_until_it_is_back() {
+    let mut rig = Rig::with(Options {
+        temps: &[(1, 43)],
+        ..Options::default()
+    });
+    rig.reset_master();
+    // The second tick (about 7 s) reads sensor 1.
+    let (temp, _, _) = run_until(&mut rig, 10, |_, bits| bits & 0b10 != 0)
+        .expect("sensor 1 read within 10 s of boot");
+    assert_eq!(temp, expected_raw(43), "21.5 °C");
+    // Unplugged: its next turn comes ten ticks (about 20 s) later. Until then the last
+    // reading stands; then the register shows no reading, 0.0 °C with its bit clear,
+    // while the other sensors stay read.
+    let sensors = rig.sensors.as_ref().expect("sensors attached");
+    sensors.set_present(1, false);
+    let (temp, bits, gone) = run_until(&mut rig, 30, |_, bits| bits & 0b10 == 0)
+        .expect("sensor 1's bit cleared within 30 s of the unplug");
+    assert!(
+        (18.0..=22.0).contains(&gone),
+        "cleared {gone} s after the unplug"
+    );
+    assert_eq!(temp, 0x2aaa, "0.0 °C, the value of no reading");
+    assert_eq!(bits, 0x3ff & !0b10, "every other sensor read");
+    // A sensor found at boot raises no exception when it goes (as the original).
+    assert_eq!(rig.master_exception(), 0);
+    // Back on the line: its next turn reads it again.
+    let sensors = rig.sensors.as_ref().expect("sensors attached");
+    sensors.set_present(1, true);
+    let (temp, bits, back) = run_until(&mut rig, 30, |_, bits| bits & 0b10 != 0)
+        .expect("sensor 1 read again within 30 s");
+    assert!(back <= 22.0, "read again {back} s after the replug");
+    assert_eq!(temp, expected_raw(43));
+    assert_eq!(bits, 0x3ff);
+    println!("sensor 1 unplugged: no reading {gone} s later; back in: read again {back} s later");
 }

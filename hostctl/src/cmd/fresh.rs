@@ -75,7 +75,8 @@ pub fn sensor_bit(target: Target, reg: &Register) -> Option<u16> {
 
 /// Why a temperature whose REGMASTER_TEMPSREAD bit is clear is no reading (it holds 0.0 °C).
 pub const NOT_READ: &str = "not read yet: the master reads one sensor every 2 s from 5 s \
-after boot, and opening the port rebooted it; or the sensor is missing";
+after boot, and opening the port rebooted it; or the sensor is missing, or its last read \
+failed";
 
 /// Whether the controller `target` is in exception (REG_STATUS bit 0), read through the
 /// scratch read set. `None` for the master, which a write does not leave waiting.

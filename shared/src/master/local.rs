@@ -83,17 +83,22 @@ impl LocalRegisters {
         self.values[PC_TIMEOUT]
     }
 
-    /// Stores raw temperature `raw` of sensor `index` (0 ambient, then controllers 1..9)
-    /// and marks it read in REGMASTER_TEMPSREAD; another index is ignored.
-    pub fn set_temperature(&mut self, index: u8, raw: u16) {
+    /// Stores the outcome of a read of sensor `index` (0 ambient, then controllers 1..9):
+    /// its raw temperature, marked read in REGMASTER_TEMPSREAD; or, for a read that
+    /// failed (`None`: a bad CRC, a sensor gone from the line), no reading: the register
+    /// back to 0.0 °C and its bit cleared, so that no tool shows a stale temperature as
+    /// current. Another index is ignored.
+    pub fn set_temperature(&mut self, index: u8, raw: Option<u16>) {
         if index <= id::REGMASTER_TEMP9 - id::REGMASTER_TEMPAMBIENT {
             if let Some(t) = self
                 .values
                 .get_mut(usize::from(index + id::REGMASTER_TEMPAMBIENT))
             {
-                *t = raw;
+                *t = raw.unwrap_or(ZERO_CELSIUS_RAW);
             }
-            self.values[TEMPS_READ] |= 1 << index;
+            let bit = 1 << index;
+            let read = &mut self.values[TEMPS_READ];
+            *read = (*read | bit) ^ if raw.is_some() { 0 } else { bit };
         }
     }
 
@@ -133,9 +138,9 @@ mod tests {
     #[test]
     fn every_id_reads_its_register() {
         let mut l = LocalRegisters::new();
-        l.set_temperature(0, 0x1234);
-        l.set_temperature(9, 0x4321);
-        l.set_temperature(10, 0xffff);
+        l.set_temperature(0, Some(0x1234));
+        l.set_temperature(9, Some(0x4321));
+        l.set_temperature(10, Some(0xffff));
         l.record(LinkError::NoAnswer);
         l.record(LinkError::BadDevice);
         let mut expected = [Some(ZERO_CELSIUS_RAW); 16];
@@ -155,6 +160,30 @@ mod tests {
         assert_eq!(l.read(255), None);
         assert_eq!(l.last_error(), Some(LinkError::BadDevice));
         assert_eq!(l.error_count(), 2);
+    }
+
+    #[test]
+    fn a_failed_read_leaves_no_reading_and_the_next_good_one_restores_it() {
+        let mut l = LocalRegisters::new();
+        l.set_temperature(2, Some(0x5887));
+        l.set_temperature(3, Some(0x4000));
+        assert_eq!(l.read(id::REGMASTER_TEMPSREAD), Some(0b1100));
+        // Sensor 2's next read fails: 0.0 °C and its bit clear; sensor 3 untouched.
+        l.set_temperature(2, None);
+        assert_eq!(l.read(id::REGMASTER_TEMP2), Some(ZERO_CELSIUS_RAW));
+        assert_eq!(l.read(id::REGMASTER_TEMP3), Some(0x4000));
+        assert_eq!(l.read(id::REGMASTER_TEMPSREAD), Some(0b1000));
+        // A failed read of a sensor never read changes nothing.
+        l.set_temperature(9, None);
+        assert_eq!(l.read(id::REGMASTER_TEMPSREAD), Some(0b1000));
+        assert_eq!(l.read(id::REGMASTER_TEMP9), Some(ZERO_CELSIUS_RAW));
+        // And a good read brings it back.
+        l.set_temperature(2, Some(0x5900));
+        assert_eq!(l.read(id::REGMASTER_TEMP2), Some(0x5900));
+        assert_eq!(l.read(id::REGMASTER_TEMPSREAD), Some(0b1100));
+        // An index past the sensors is ignored either way.
+        l.set_temperature(10, None);
+        assert_eq!(l.read(id::REGMASTER_TEMPSREAD), Some(0b1100));
     }
 
     #[test]
