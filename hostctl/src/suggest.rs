@@ -21,7 +21,8 @@ pub fn distance(a: &str, b: &str) -> usize {
 /// A register name without its `REG…_` prefix: `REGDS_DRIVE_REQSPEED` gives
 /// `DRIVE_REQSPEED`, `REG_TIMER` gives `TIMER`.
 pub fn short_name(name: &str) -> &str {
-    let upper_reg = name.len() > 3 && name[..3].eq_ignore_ascii_case("REG");
+    // `get`, not `[..3]`: a mistyped name may have a multi-byte character there.
+    let upper_reg = name.len() > 3 && name.get(..3).is_some_and(|p| p.eq_ignore_ascii_case("REG"));
     match name.find('_') {
         Some(i) if upper_reg && i + 1 < name.len() => &name[i + 1..],
         _ => name,

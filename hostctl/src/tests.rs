@@ -861,6 +861,15 @@ fn unknown_and_misplaced_registers_are_refused() {
     );
     assert!(refused("watch --readset 2 --device 3 DRIVE_ACTUALSPEED").contains("not on device 3"));
     assert!(refused("watch --readset 0 REGLL_ONE_ACTUALPOS").contains("not on device 1"));
+    // A name with a multi-byte character where the `REG` prefix would be is no register
+    // either (it once panicked looking for the prefix).
+    for name in ["ñññ", "ab€", "re€_x", "ток"] {
+        let message = refused(&format!("read 1 {name}"));
+        assert!(
+            message.contains(&format!("no register named `{name}`")),
+            "{message}"
+        );
+    }
 }
 
 #[test]
