@@ -244,6 +244,17 @@ pub enum HostError {
         words: String,
     },
 
+    /// Writes of one script line were refused; the line's other writes were still sent.
+    #[error("{refused} of the line's {writes} writes refused, the other {} sent; the first: {first}", writes - refused)]
+    WritesRefused {
+        /// How many were refused.
+        refused: usize,
+        /// How many writes the line has.
+        writes: usize,
+        /// The first refusal.
+        first: Box<HostError>,
+    },
+
     /// The set-read-set reply was not the register count.
     #[error("device {device} answered {got} to set-read-set {set}, expected the count {expected}{words}")]
     ReadSetRejected {

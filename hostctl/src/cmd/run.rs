@@ -159,9 +159,38 @@ pub fn run<P: Port>(
             text: line.text.clone(),
             source: Box::new(source),
         };
-        // The view shows the demands as they stand after this line.
+        // The view shows the demands as they stand after this line. A write the master
+        // refuses (it answered, so the link works) does not stop the line's other writes:
+        // a `stop` must reach every board it can, as the master itself sends a frame's
+        // other writes after a refused one. The line fails after them, naming what was
+        // refused; anything else (a timeout, a dead port) stops at once.
+        let mut refused = Vec::new();
+        let writes = line
+            .actions
+            .iter()
+            .filter(|a| matches!(a, Action::Op(Op::Write(_))))
+            .count();
         for action in &line.actions {
-            act(action, link, clock, &poller, line, &mut session, output).map_err(step)?;
+            if !refused.is_empty() && !matches!(action, Action::Op(_)) {
+                break;
+            }
+            match act(action, link, clock, &poller, line, &mut session, output) {
+                Ok(()) => {}
+                Err(e @ HostError::WriteRefused { .. }) => refused.push(e),
+                Err(e) => return Err(step(e)),
+            }
+        }
+        let count = refused.len();
+        if let Some(first) = refused.into_iter().next() {
+            return Err(step(if writes == 1 {
+                first
+            } else {
+                HostError::WritesRefused {
+                    refused: count,
+                    writes,
+                    first: Box::new(first),
+                }
+            }));
         }
     }
     Ok(())
@@ -483,6 +512,47 @@ mod tests {
     }
 
     #[test]
+    fn a_stop_reaches_every_board_after_one_refuses_and_the_line_then_fails() {
+        // Controller 1 refuses its first frame (0x8c: it did not acknowledge); the other 35
+        // frames of the emergency stop still go out, and the line fails naming the refusal.
+        let mut replies = configure_replies();
+        replies.push(vec![0x8c]);
+        replies.extend(std::iter::repeat_n(vec![0], 35));
+        let ran = run_script("stop\nsay after\n", &replies, false);
+        let stop_frames = &ran.hex[10..];
+        assert_eq!(stop_frames.len(), 36, "{stop_frames:?}");
+        // The last is wheel 6's lift demand: REQPOS 0 to controller 9 (TWO, id 27).
+        assert_eq!(stop_frames[35], "06 92 01 1b ff 7f");
+        let message = ran.result.unwrap_err().to_string();
+        assert!(
+            message.starts_with(
+                "t.rover line 1 (`stop`) failed: 1 of the line's 36 writes refused, the other 35 \
+                 sent; the first: device 1 refused the write to"
+            ),
+            "{message}"
+        );
+        assert!(message.contains("code 0x8c"), "{message}");
+        // The script stops there: the next line never runs.
+        assert!(!ran.text.contains("after"), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_stop_whose_master_does_not_answer_stops_at_once() {
+        // No reply at all (the fake port runs dry): a timeout, so nothing more is sent.
+        let replies = configure_replies();
+        let ran = run_script("stop\n", &replies, false);
+        // The first stop frame, then the probe of the master's error registers (its
+        // set-read-set, unanswered too); no second stop frame.
+        assert_eq!(ran.hex.len(), 10 + 1 + 1, "{:?}", ran.hex);
+        assert_eq!(ran.hex[11], "05 04 07 0c 0d");
+        assert!(matches!(
+            ran.result,
+            Err(HostError::ScriptStep { ref source, .. })
+                if matches!(**source, HostError::Timeout { .. })
+        ));
+    }
+
+    #[test]
     fn show_adds_registers_to_every_view() {
         let mut replies = configure_replies();
         // The show set's count, then per update the ten reads and the show set's 4 bytes.
@@ -642,9 +712,23 @@ mod tests {
     fn a_refused_write_names_the_script_line() {
         let mut replies = configure_replies();
         replies.push(vec![0x8c]);
-        let err = run_script("reset\n", &replies, false).result.unwrap_err();
+        // The other nine boards of resetExceptions() accept theirs.
+        replies.extend(std::iter::repeat_n(vec![0], 9));
+        let ran = run_script("reset\n", &replies, false);
+        assert_eq!(ran.hex.len(), 10 + 10, "every reset sent: {:?}", ran.hex);
+        let err = ran.result.unwrap_err();
         assert!(
-            err.to_string().starts_with("t.rover line 1 (`reset`) failed: device 1 refused the write to REG_RESET: code 0x8c (a slave did not answer on the I2C bus); controller 1 is not answering the master on the I2C bus"),
+            err.to_string().starts_with("t.rover line 1 (`reset`) failed: 1 of the line's 10 writes refused, the other 9 sent; the first: device 1 refused the write to REG_RESET: code 0x8c (a slave did not answer on the I2C bus); controller 1 is not answering the master on the I2C bus"),
+            "{err}"
+        );
+        // A line of one write fails with the refusal alone.
+        let mut replies = configure_replies();
+        replies.push(vec![0x8c]);
+        let err = run_script("drive 1 10\n", &replies, false)
+            .result
+            .unwrap_err();
+        assert!(
+            err.to_string().starts_with("t.rover line 1 (`drive 1 10`) failed: device 1 refused the write to a demand: code 0x8c"),
             "{err}"
         );
     }
