@@ -139,6 +139,15 @@ for tool in avrdude avr-objcopy; do
   command -v "$tool" >/dev/null || fail "$tool not found: run scripts/setup.sh to install the AVR tools"
 done
 
+# A real upload needs the board now: check the port before the build, so a missing board
+# costs no build and leaves the last outputs in place. (avrdude's usb and net: ports are
+# not device files; it checks those itself.)
+if [ $dry_run -eq 0 ] && [[ $port == /* ]]; then
+  [ -e "$port" ] || die "no serial port $port: plug the board in, or pass --port PATH (ls /dev/ttyACM* /dev/ttyUSB*)"
+  [ -r "$port" ] && [ -w "$port" ] ||
+    die "cannot open $port for reading and writing: add yourself to its group (ls -l $port; often dialout) or run as root"
+fi
+
 # ---- build and convert ----
 name=$role${addr:+-$addr}
 if [ $dry_run -eq 1 ]; then dir=target/flash-dry-run/$name; else dir=target/flash/$name; fi

@@ -32,8 +32,14 @@ stop_twin() {
   wait "$twin" 2>/dev/null || true
 }
 trap 'stop_twin; rm -rf "$work"' EXIT
-for _ in $(seq 200); do [ -e "$port" ] && break; sleep 0.1; done
-if [ ! -e "$port" ]; then
+# Ready once it has made the link and printed the pty's path; a twin that dies on the way
+# is reported at once, not after the wait.
+for _ in $(seq 200); do
+  [ -e "$port" ] && [ -s "$work/pty" ] && break
+  kill -0 "$twin" 2>/dev/null || break
+  sleep 0.1
+done
+if [ ! -e "$port" ] || [ ! -s "$work/pty" ]; then
   echo "demo: the twin did not start:" >&2
   cat "$work/twin.log" >&2
   exit 1

@@ -8,8 +8,17 @@ flash_max=$(limit FLASH); ram_max=$(limit RAM); eeprom_max=$(limit EEPROM)
 pct() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f", 100 * a / b }'; }
 status=0
 printf '%-22s %8s %7s %8s %7s %7s\n' image flash "%" ram "%" eeprom
-for elf in "${BLODWEN_FIRMWARE_DIR:-$root/target/firmware}"/*.elf; do
-  read -r text data bss eep < <(avr-size -A "$elf" | awk '
+dir=${BLODWEN_FIRMWARE_DIR:-$root/target/firmware}
+shopt -s nullglob
+elves=("$dir"/*.elf)
+if [ ${#elves[@]} -eq 0 ]; then
+  echo "size-report: no firmware images in $dir; build them first: scripts/firmware.sh" >&2
+  exit 1
+fi
+for elf in "${elves[@]}"; do
+  # Captured first, so that a failing avr-size stops the script instead of reading as 0 B.
+  sections=$(avr-size -A "$elf")
+  read -r text data bss eep < <(printf '%s\n' "$sections" | awk '
     $1 == ".text" { t = $2 } $1 == ".data" { d = $2 } $1 == ".bss" { b = $2 } $1 == ".noinit" { b += $2 }
     $1 == ".eeprom" { e = $2 } END { print t + 0, d + 0, b + 0, e + 0 }')
   flash=$((text + data)); ram=$((data + bss))
