@@ -58,17 +58,17 @@ pub enum HostError {
     },
 
     /// The value is not a number.
-    #[error("`{given}` is not a number: give the value in engineering units, e.g. 1000 or -40.5")]
+    #[error("`{given}` is not a number: give the value in engineering units, e.g. 1000 or -40.5 (a register without units, such as a bit field, also takes hexadecimal: 0x1000)")]
     BadValue {
         /// The text given.
         given: String,
     },
 
     /// The value is outside what the register can carry.
-    #[error("{value} is out of range for {}: allowed {}", .allowed.place(), .allowed.span())]
+    #[error("{given} is out of range for {}: allowed {}", .allowed.place(), .allowed.span())]
     OutOfRange {
-        /// The value given.
-        value: f32,
+        /// The value as given.
+        given: String,
         /// What the register allows.
         allowed: Allowed,
     },
@@ -229,6 +229,19 @@ pub enum HostError {
         got: usize,
         /// What the master said when asked for its last link error afterwards.
         master: MasterSays,
+    },
+
+    /// The master's start-up banner arrived in the middle of a session.
+    #[error("the master rebooted during this session (its start-up banner arrived unasked: a reset, its watchdog or a power dip), so the read sets, REGMASTER_PCTIMEOUT and every board's state are gone and every controller is in its boot exception; run the command again, and check the power and the cable if it keeps happening")]
+    MasterRebooted,
+
+    /// More bytes came than the reply has.
+    #[error("device {device}'s reply was followed by {extra} more bytes than asked for: the link is out of step, so the values are not shown; run the command again, and check the cable if it keeps happening")]
+    OutOfStep {
+        /// The device addressed.
+        device: u8,
+        /// How many bytes came after the reply.
+        extra: usize,
     },
 
     /// The master reported a failed write.

@@ -39,6 +39,15 @@ impl FakePort {
         }
     }
 
+    /// The same port, answering the frames written to it with `replies` (after whatever
+    /// input it already has).
+    pub fn replying<R: AsRef<[u8]>>(self, replies: &[R]) -> Self {
+        Self {
+            replies: replies.iter().map(|r| r.as_ref().to_vec()).collect(),
+            ..self
+        }
+    }
+
     /// Bytes not read yet.
     pub fn remaining(&self) -> Vec<u8> {
         self.pending.iter().copied().collect()

@@ -29,6 +29,16 @@ pub const DRAIN_TIMEOUT: Duration = Duration::from_millis(50);
 /// master has just hard-reset are back on the bus (reference §4.1, §13).
 pub const SETTLE: Duration = Duration::from_secs(2);
 
+/// The most stray bytes one check reads.
+const STRAY_MAX: usize = 1024;
+
+/// Whether `bytes` hold a piece of the master's start-up banner (its first or last line).
+fn is_banner(bytes: &[u8]) -> bool {
+    [&b"Starting"[..], b"Ready\r\n"]
+        .iter()
+        .any(|line| bytes.windows(line.len()).any(|w| w == *line))
+}
+
 /// A connected link to the master.
 pub struct Link<P: Port> {
     port: P,
@@ -83,14 +93,26 @@ impl<P: Port> Link<P> {
     }
 
     /// Sends `frame` to `device` and reads exactly `reply_len` bytes back.
+    ///
+    /// The master sends nothing unasked but its start-up banner, so bytes waiting before
+    /// the frame, or after its reply, mean the reply cannot be trusted as the answer to
+    /// this frame: a banner is a reboot ([`HostError::MasterRebooted`]), extra bytes after
+    /// a reply put the link out of step ([`HostError::OutOfStep`]). Other bytes waiting
+    /// before the frame are dropped, so that its reply lines up.
     pub fn transact(
         &mut self,
         device: u8,
         frame: &[u8],
         reply_len: usize,
     ) -> Result<Vec<u8>, HostError> {
+        if is_banner(&self.stray()?) {
+            return Err(HostError::MasterRebooted);
+        }
         let (reply, got) = self.exchange(frame, reply_len, REPLY_TIMEOUT)?;
         if got < reply_len {
+            if is_banner(&reply[..got]) {
+                return Err(HostError::MasterRebooted);
+            }
             return Err(HostError::Timeout {
                 device,
                 expected: reply_len,
@@ -98,7 +120,44 @@ impl<P: Port> Link<P> {
                 master: self.master_says(),
             });
         }
+        let extra = self.stray()?;
+        if !extra.is_empty() {
+            let mut all = reply;
+            all.extend_from_slice(&extra);
+            if is_banner(&all) {
+                return Err(HostError::MasterRebooted);
+            }
+            return Err(HostError::OutOfStep {
+                device,
+                extra: extra.len(),
+            });
+        }
         Ok(reply)
+    }
+
+    /// The bytes waiting to be read now, without waiting for more (at most
+    /// [`STRAY_MAX`], so a line that never falls silent cannot hold the command up).
+    fn stray(&mut self) -> Result<Vec<u8>, HostError> {
+        self.port.set_timeout(Duration::ZERO)?;
+        let mut out = Vec::new();
+        let mut buf = [0u8; 64];
+        while out.len() < STRAY_MAX {
+            match self.port.read(&mut buf) {
+                Ok(0) => break,
+                Ok(n) => out.extend_from_slice(&buf[..n]),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock
+                    ) =>
+                {
+                    break
+                }
+                Err(e) => return Err(HostError::Io(e)),
+            }
+        }
+        Ok(out)
     }
 
     /// Sends `frame` and reads up to `reply_len` bytes, each read waiting at most
@@ -173,11 +232,68 @@ mod tests {
 
     #[test]
     fn transact_reads_exactly_the_reply() {
-        let mut link = Link::ready(FakePort::with_replies(&[[0xaa, 0xbb, 0xcc]]));
+        let mut link = Link::ready(FakePort::with_replies(&[[0xaa, 0xbb]]));
         let reply = link.transact(1, &[3, 0x13, 0], 2).unwrap();
         assert_eq!(reply, [0xaa, 0xbb]);
         assert_eq!(link.port().written, [3, 0x13, 0]);
-        assert_eq!(link.port().timeouts, [REPLY_TIMEOUT]);
+        // A look for stray bytes before the frame and after the reply, neither waiting.
+        assert_eq!(
+            link.port().timeouts,
+            [Duration::ZERO, REPLY_TIMEOUT, Duration::ZERO]
+        );
+    }
+
+    #[test]
+    fn a_reply_with_bytes_after_it_is_out_of_step_not_values() {
+        let mut link = Link::ready(FakePort::with_replies(&[[0xaa, 0xbb, 0xcc]]));
+        match link.transact(1, &[3, 0x13, 0], 2) {
+            Err(HostError::OutOfStep {
+                device: 1,
+                extra: 1,
+            }) => {}
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_banner_mid_session_is_a_reboot_and_nothing_is_sent() {
+        let mut link = Link::ready(FakePort::with_input(
+            b"Starting\r\nMar 29 2017 14:03:11\r\n1234\r\nReady\r\n",
+        ));
+        assert!(matches!(
+            link.transact(1, &[3, 0x13, 0], 2),
+            Err(HostError::MasterRebooted)
+        ));
+        assert!(link.port().written.is_empty());
+    }
+
+    #[test]
+    fn a_banner_that_arrives_as_the_reply_is_a_reboot_not_values() {
+        // The master reboots after the frame went out: its banner comes instead of the
+        // reply, whole or as its tail ("Ready" last).
+        for reply in [&b"Starting\r\nMar 29"[..], b"\r\nReady\r\n", b"Sta"] {
+            let mut link = Link::ready(FakePort::with_replies(&[reply]));
+            let len = if reply == b"Sta" { 8 } else { 2 };
+            let result = link.transact(1, &[3, 0x13, 0], len);
+            if reply == b"Sta" {
+                // Three bytes of eight are no banner yet: a plain timeout.
+                assert!(matches!(result, Err(HostError::Timeout { got: 3, .. })));
+            } else {
+                assert!(
+                    matches!(result, Err(HostError::MasterRebooted)),
+                    "{reply:?}: {result:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn other_stray_bytes_before_a_frame_are_dropped_so_its_reply_lines_up() {
+        // A late byte of some earlier answer, already waiting.
+        let port = FakePort::with_input(&[0x7f]).replying(&[[0x01, 0x02]]);
+        let mut link = Link::ready(port);
+        assert_eq!(link.transact(2, &[3, 0x23, 0], 2).unwrap(), [0x01, 0x02]);
+        assert_eq!(link.port().written, [3, 0x23, 0]);
     }
 
     #[test]

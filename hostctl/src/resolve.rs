@@ -189,7 +189,20 @@ pub fn unit_suffix(reg: &Register) -> String {
 
 /// Parses and checks a value for a write, returning it and its raw form.
 pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32, u16), HostError> {
-    let value: f32 = text.trim().parse().map_err(|_| HostError::BadValue {
+    let given = text.trim();
+    let hex = given
+        .strip_prefix("0x")
+        .or_else(|| given.strip_prefix("0X"));
+    let parsed = match hex {
+        // An unmapped register (a bit field, a count) takes hexadecimal too, as device and
+        // register numbers do; its values fit 16 bits, so the f32 is exact where it counts.
+        Some(digits) if reg.range.is_none() => {
+            u32::from_str_radix(digits, 16).ok().map(|v| v as f32)
+        }
+        // "nan" parses as an f32, but is no number; "inf" and 1e39 are out of range below.
+        _ => given.parse::<f32>().ok().filter(|v| !v.is_nan()),
+    };
+    let value = parsed.ok_or_else(|| HostError::BadValue {
         given: text.to_owned(),
     })?;
     let bounds = Allowed::of(reg, target.device);
@@ -199,7 +212,7 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
         || !mapping::in_range(value, reg)
     {
         return Err(HostError::OutOfRange {
-            value,
+            given: given.to_owned(),
             allowed: bounds,
         });
     }
@@ -448,6 +461,24 @@ mod tests {
         assert_eq!(value(ll(), lift, "20").unwrap().1, 0x8ccb);
         let reset = register(ds(), "RESET").unwrap();
         assert_eq!(value(ds(), reset, "4").unwrap().1, 4);
+        // Unmapped registers take hexadecimal; mapped ones do not (0x10 ticks/s is no unit).
+        let disabled = register(ds(), "DISABLEDEXCEPTIONS").unwrap();
+        assert_eq!(value(ds(), disabled, "0x1000").unwrap(), (4096.0, 0x1000));
+        assert_eq!(value(ds(), disabled, "0XfFfF").unwrap().1, 0xffff);
+        assert!(matches!(
+            value(ds(), disabled, "0x10000"),
+            Err(HostError::OutOfRange { .. })
+        ));
+        for bad in ["0x", "0xg1", "0x-1"] {
+            assert!(
+                matches!(value(ds(), disabled, bad), Err(HostError::BadValue { .. })),
+                "{bad}"
+            );
+        }
+        assert!(matches!(
+            value(ds(), speed, "0x10"),
+            Err(HostError::BadValue { .. })
+        ));
     }
 
     #[test]
@@ -458,10 +489,27 @@ mod tests {
             "4000.5 is out of range for REGDS_DRIVE_REQSPEED on device 1: \
              allowed -4000..4000 ticks/s"
         );
-        for bad in ["nan", "inf", "-inf", "-4001"] {
+        for bad in ["inf", "-inf", "-4001"] {
             assert!(
                 matches!(value(ds(), speed, bad), Err(HostError::OutOfRange { .. })),
                 "{bad}"
+            );
+        }
+        // The message echoes what was typed, not the f32 it parsed to.
+        for typed in ["1e39", "99999999999"] {
+            assert_eq!(
+                value(ds(), speed, typed).unwrap_err().to_string(),
+                format!(
+                    "{typed} is out of range for REGDS_DRIVE_REQSPEED on device 1: \
+                     allowed -4000..4000 ticks/s"
+                )
+            );
+        }
+        // NaN is no number at all.
+        for nan in ["nan", "NaN", "-nan"] {
+            assert!(
+                matches!(value(ds(), speed, nan), Err(HostError::BadValue { .. })),
+                "{nan}"
             );
         }
         let reset = register(ds(), "RESET").unwrap();

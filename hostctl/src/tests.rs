@@ -288,10 +288,12 @@ fn write_without_reply_times_out() {
          ignores the PC); check the cable, turn the remote control off, reset the rover, or \
          restart the twin"
     );
-    // The probe waits briefly: a drain for stray bytes, then 300 ms for its reply.
+    // A look for stray bytes before the frame (no wait), 1 s for the reply; the probe
+    // waits briefly: a drain for stray bytes, then 300 ms for its reply.
     assert_eq!(
         o.port.timeouts,
         [
+            std::time::Duration::ZERO,
             crate::link::REPLY_TIMEOUT,
             crate::link::DRAIN_TIMEOUT,
             crate::link::PROBE_TIMEOUT
@@ -805,6 +807,18 @@ fn watch_stops_at_the_first_failed_read() {
     assert!(o.out.is_empty());
 }
 
+#[test]
+fn watch_stops_when_the_master_reboots_and_shows_no_banner_bytes_as_values() {
+    // Round 1 reads TIMER; then the master reboots and its banner arrives in place of
+    // round 2's reply: no value from it is printed.
+    let replies: [&[u8]; 3] = [&[0x01], &[0x07, 0x00], b"Starting\r\nMar 29 2017"];
+    let o = hostctl("watch --readset 4 --device 5 --count 3 TIMER", &replies);
+    assert_eq!(o.port.frames_hex(), ["04 54 04 01", "03 53 04", "03 53 04"]);
+    assert!(matches!(o.result, Err(HostError::MasterRebooted)));
+    assert!(o.out.contains("round 1"), "{}", o.out);
+    assert!(!o.out.contains("round 2"), "{}", o.out);
+}
+
 // ---- run ----
 
 #[test]
@@ -840,6 +854,10 @@ fn bad_devices_are_refused() {
          (DS: 1, 2, 4, 5, 7, 8; LL: 3, 6, 9)"
     );
     refused("read 255 TIMER");
+    // A negative number is a device that does not exist, not an unknown flag.
+    assert!(refused("read -1 TIMER").starts_with("device `-1` does not exist"));
+    assert!(refused("readset --device -3 0 TIMER").starts_with("device `-3` does not exist"));
+    assert!(refused("watch --readset 0 --device -2").starts_with("device `-2` does not exist"));
     refused("readset --device 12 0 TIMER");
     refused("watch --readset 0 --device 99");
 }

@@ -253,7 +253,7 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
         .map(temp)
         .collect();
     let unread = if ambient == "-" || temps.iter().any(|t| t == "-") {
-        " (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"
+        " (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"
     } else {
         ""
     };
@@ -462,7 +462,7 @@ mod tests {
         assert_eq!(
             master_line(&s),
             "master: no exception; °C ambient 21.5, boards - 0.0 - - - - - - - \
-             (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"
+             (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"
         );
         // At the register's ends a reading may be beyond them.
         let mut ends = master.clone();

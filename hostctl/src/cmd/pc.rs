@@ -194,7 +194,7 @@ fn raw(kind: BoardKind, device: u8, reg: u8, value: f32) -> Result<Write, HostEr
             )))?;
     if !mapping::in_range(value, register) {
         return Err(HostError::OutOfRange {
-            value,
+            given: value.to_string(),
             allowed: Allowed::of(register, device),
         });
     }

@@ -19,6 +19,7 @@ pub const SCRATCH_SET: u8 = 7;
 
 /// Arguments of `read`.
 #[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Device: 0 = master, 1..9 = controllers.
     pub device: String,

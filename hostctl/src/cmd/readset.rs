@@ -14,6 +14,7 @@ use crate::resolve::{self, Target};
 
 /// Arguments of `readset`.
 #[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Device whose table the names are resolved against (0 = master).
     #[arg(long, value_name = "D", default_value = "0")]

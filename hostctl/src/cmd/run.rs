@@ -660,7 +660,7 @@ mod tests {
         assert_eq!(
             lines[6],
             format!(
-                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- not read yet: one sensor every 2 s from 5 s after boot, or missing)"}}"#,
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
                 wheels.join(",")
             )
         );

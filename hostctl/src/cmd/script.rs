@@ -86,6 +86,8 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
     let mut lines = Vec::new();
     // `show` lines so far: the next one takes the next of SHOW_SETS.
     let mut shows = 0;
+    // A byte-order mark (some editors write one) is no part of the first line.
+    let source = source.strip_prefix('\u{feff}').unwrap_or(source);
     for (i, raw) in source.lines().enumerate() {
         let text = without_comment(raw).trim();
         if text.is_empty() {
@@ -353,6 +355,14 @@ mod tests {
         let err = parse("s", "show 1 one_control").unwrap_err().to_string();
         assert!(err.contains("LL table"), "{err}");
         assert!(parse("s", "show 1").is_err());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_line() {
+        let lines = parse("s", "\u{feff}reset\nsay ok\n").unwrap();
+        assert_eq!(lines[0].text, "reset");
+        assert_eq!(lines[0].number, 1);
+        assert_eq!(lines.len(), 2);
     }
 
     #[test]

@@ -25,6 +25,7 @@ use crate::table::Table;
 
 /// Arguments of `watch`.
 #[derive(Debug, clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Read set to poll, 0..7.
     #[arg(long, value_name = "N")]
