@@ -25,12 +25,12 @@ use shared::regs::{id, Register};
 use super::live::{actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
 use super::pc::{Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
-use super::{configure, set_frame, SetRead};
+use super::{configure, fresh, set_frame, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
-use crate::resolve;
+use crate::resolve::{self, Target};
 use crate::table::Screen;
 
 /// Arguments of `run`.
@@ -223,20 +223,35 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
         .collect()
 }
 
+/// Whether `show`'s register `reg` of `device` holds no reading: a master temperature
+/// whose REGMASTER_TEMPSREAD bit (polled with the master's row) is clear holds 0.0 °C,
+/// which is no value.
+fn no_reading(s: &Snapshot, device: u8, reg: &Register) -> bool {
+    let Some(bit) = Target::of(device).and_then(|target| fresh::sensor_bit(target, reg)) else {
+        return false;
+    };
+    s.raw(0, id::REGMASTER_TEMPSREAD)
+        .is_some_and(|read| read & bit == 0)
+}
+
 /// The `show` values as text: a line per set.
-fn shown_lines(shown: &Shown) -> Vec<String> {
+fn shown_lines(shown: &Shown, s: &Snapshot) -> Vec<String> {
     shown
         .iter()
         .map(|(device, values)| {
             let cells: Vec<String> = values
                 .iter()
                 .map(|&(reg, raw)| {
-                    format!(
-                        "{} {}{}",
-                        reg.short_name(),
-                        resolve::show(reg, raw),
-                        resolve::unit_suffix(reg)
-                    )
+                    if no_reading(s, *device, reg) {
+                        format!("{} - (no reading)", reg.short_name())
+                    } else {
+                        format!(
+                            "{} {}{}",
+                            reg.short_name(),
+                            resolve::show(reg, raw),
+                            resolve::unit_suffix(reg)
+                        )
+                    }
                 })
                 .collect();
             format!("device {device}: {}", cells.join(", "))
@@ -244,16 +259,20 @@ fn shown_lines(shown: &Shown) -> Vec<String> {
         .collect()
 }
 
-/// The `show` values as a JSON array.
-fn shown_json(shown: &Shown) -> String {
+/// The `show` values as a JSON array (`value` null for no reading).
+fn shown_json(shown: &Shown, s: &Snapshot) -> String {
     json::array(shown.iter().map(|(device, values)| {
         let values = json::array(values.iter().map(|&(reg, raw)| {
-            json::Object::new()
+            let object = json::Object::new()
                 .str("register", reg.name)
-                .int("raw", raw)
-                .num("value", mapping::unmap(raw, reg))
-                .str("unit", reg.unit)
-                .finish()
+                .int("raw", raw);
+            if no_reading(s, *device, reg) {
+                object.raw("value", "null")
+            } else {
+                object.num("value", mapping::unmap(raw, reg))
+            }
+            .str("unit", reg.unit)
+            .finish()
         }));
         json::Object::new()
             .int("device", *device)
@@ -331,7 +350,7 @@ fn view_json(
     if shown.is_empty() {
         view.finish()
     } else {
-        view.raw("shown", &shown_json(shown)).finish()
+        view.raw("shown", &shown_json(shown, s)).finish()
     }
 }
 
@@ -414,7 +433,7 @@ fn live<P: Port>(
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
             let dropped = &session.dropped;
             let mut lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
-            lines.extend(shown_lines(&shown));
+            lines.extend(shown_lines(&shown, &snapshot));
             let text = if output.json {
                 let mut t = view_json(&snapshot, line, dropped, &shown, elapsed, updates, rate);
                 t.push('\n');
@@ -550,6 +569,44 @@ mod tests {
             Err(HostError::ScriptStep { ref source, .. })
                 if matches!(**source, HostError::Timeout { .. })
         ));
+    }
+
+    #[test]
+    fn a_shown_temperature_without_a_reading_is_not_shown_as_one() {
+        // `show 0 temp1`: TEMP1's REGMASTER_TEMPSREAD bit (the last two bytes of the
+        // master's row) is clear in the first run, where it holds 0x2aaa (0.0 °C, no
+        // reading); set in the second, where it holds 0x5887 (21.5 °C).
+        for (read_bits, raw, want, value) in [
+            (
+                0x0000u16,
+                0x2aaau16,
+                "device 0: TEMP1 - (no reading)",
+                "null",
+            ),
+            (0x0002, 0x5887, "device 0: TEMP1 21.498 degC", "21.498"),
+        ] {
+            let mut replies = configure_replies();
+            replies.push(vec![1]);
+            for _ in 0..2 {
+                let mut update = update_replies();
+                let master = update.last_mut().expect("the master's row");
+                master[22..24].copy_from_slice(&read_bits.to_le_bytes());
+                replies.extend(update);
+                replies.push(raw.to_le_bytes().to_vec());
+            }
+            let ran = run_script("show 0 temp1\nwait 0.01\n", &replies, false);
+            ran.result.unwrap();
+            assert!(ran.text.contains(&format!("\n{want}\n")), "{}", ran.text);
+            let ran = run_script("show 0 temp1\nwait 0.01\n", &replies, true);
+            ran.result.unwrap();
+            assert!(
+                ran.text.contains(&format!(
+                    "\"register\":\"REGMASTER_TEMP1\",\"raw\":{raw},\"value\":{value}"
+                )),
+                "{}",
+                ran.text
+            );
+        }
     }
 
     #[test]
