@@ -482,6 +482,15 @@ mod tests {
             .collect()
     }
 
+    /// The replies of `init()`, then a first write refused with 0x8c (the slave did not
+    /// acknowledge) and `accepted` writes answered 00.
+    fn first_write_refused(accepted: usize) -> Vec<Vec<u8>> {
+        let mut replies = configure_replies();
+        replies.push(vec![0x8c]);
+        replies.extend(std::iter::repeat_n(vec![0], accepted));
+        replies
+    }
+
     fn update_replies() -> Vec<Vec<u8>> {
         (1..=9u8)
             .map(|d| vec![0u8; if d % 3 == 0 { 36 } else { 40 }])
@@ -534,10 +543,7 @@ mod tests {
     fn a_stop_reaches_every_board_after_one_refuses_and_the_line_then_fails() {
         // Controller 1 refuses its first frame (0x8c: it did not acknowledge); the other 35
         // frames of the emergency stop still go out, and the line fails naming the refusal.
-        let mut replies = configure_replies();
-        replies.push(vec![0x8c]);
-        replies.extend(std::iter::repeat_n(vec![0], 35));
-        let ran = run_script("stop\nsay after\n", &replies, false);
+        let ran = run_script("stop\nsay after\n", &first_write_refused(35), false);
         let stop_frames = &ran.hex[10..];
         assert_eq!(stop_frames.len(), 36, "{stop_frames:?}");
         // The last is wheel 6's lift demand: REQPOS 0 to controller 9 (TWO, id 27).
@@ -767,11 +773,8 @@ mod tests {
 
     #[test]
     fn a_refused_write_names_the_script_line() {
-        let mut replies = configure_replies();
-        replies.push(vec![0x8c]);
         // The other nine boards of resetExceptions() accept theirs.
-        replies.extend(std::iter::repeat_n(vec![0], 9));
-        let ran = run_script("reset\n", &replies, false);
+        let ran = run_script("reset\n", &first_write_refused(9), false);
         assert_eq!(ran.hex.len(), 10 + 10, "every reset sent: {:?}", ran.hex);
         let err = ran.result.unwrap_err();
         assert!(
@@ -779,9 +782,7 @@ mod tests {
             "{err}"
         );
         // A line of one write fails with the refusal alone.
-        let mut replies = configure_replies();
-        replies.push(vec![0x8c]);
-        let err = run_script("drive 1 10\n", &replies, false)
+        let err = run_script("drive 1 10\n", &first_write_refused(0), false)
             .result
             .unwrap_err();
         assert!(
