@@ -69,6 +69,13 @@ mod tests {
             .collect()
     }
 
+    /// A watch that has just heard the PC at `ms` (not due then).
+    fn heard_at(ms: u16, timeout: u16) -> PcWatch {
+        let mut w = PcWatch::new();
+        assert!(!w.due(ms, timeout, true));
+        w
+    }
+
     #[test]
     fn off_by_default_and_at_zero() {
         let mut w = PcWatch::new();
@@ -77,8 +84,7 @@ mod tests {
 
     #[test]
     fn acts_after_the_timeout_and_again_every_timeout_while_silent() {
-        let mut w = PcWatch::new();
-        assert!(!w.due(1_000, 300, true));
+        let mut w = heard_at(1_000, 300);
         // Exactly 300 ms after the PC was last heard, then every 300 ms.
         assert_eq!(
             trips(&mut w, 1_001, 2_000, 300, false),
@@ -91,8 +97,7 @@ mod tests {
 
     #[test]
     fn a_loop_that_checks_late_acts_at_its_first_check_past_the_timeout() {
-        let mut w = PcWatch::new();
-        assert!(!w.due(0, 300, true));
+        let mut w = heard_at(0, 300);
         // Checked every 7 ms: the first check at or past 300 ms acts.
         let tripped = trips_at(&mut w, (1..100u32).map(|k| 7 * k), 300, |_| false);
         assert_eq!(tripped[..2], [301, 602]);
@@ -119,8 +124,7 @@ mod tests {
 
     #[test]
     fn across_the_clock_wrap_and_at_the_longest_timeouts() {
-        let mut w = PcWatch::new();
-        assert!(!w.due(65_000, 1_000, true));
+        let mut w = heard_at(65_000, 1_000);
         assert_eq!(
             trips(&mut w, 65_001, 67_500, 1_000, false),
             vec![66_000, 67_000]
@@ -128,8 +132,7 @@ mod tests {
         // 60 s and above act as 60 s, which a loop checking every 20 ms still sees before
         // the 16-bit clock wraps.
         for timeout in [60_000, 60_001, u16::MAX] {
-            let mut w = PcWatch::new();
-            assert!(!w.due(10, timeout, true));
+            let mut w = heard_at(10, timeout);
             let first = (1..10_000u32)
                 .map(|k| 10 + 20 * k)
                 .find(|&t| w.due(t as u16, timeout, false));
