@@ -54,6 +54,20 @@ impl Snapshot {
         let register = kind.register(reg)?;
         Some(mapping::unmap(self.raw(device, reg)?, register))
     }
+
+    /// Whether register `reg` of `device` holds no reading: a master temperature whose
+    /// REGMASTER_TEMPSREAD bit (read with the master's row) is clear holds 0.0 °C, which
+    /// is no value.
+    pub fn no_reading(&self, device: u8, reg: u8) -> bool {
+        let bit = Target::of(device).and_then(|target| {
+            let register = target.kind.register(reg)?;
+            super::fresh::sensor_bit(target, register)
+        });
+        match (bit, self.raw(0, id::REGMASTER_TEMPSREAD)) {
+            (Some(bit), Some(read)) => read & bit == 0,
+            _ => false,
+        }
+    }
 }
 
 impl Poller {
@@ -237,16 +251,12 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
     };
     // A sensor the master has not read since boot (or cannot find) holds 0.0 °C, which
     // is no reading: shown as "-".
-    let read = s.raw(0, id::REGMASTER_TEMPSREAD);
-    let temp = |reg: u8| {
-        let bit = reg - id::REGMASTER_TEMPAMBIENT;
-        match (read, s.raw(0, reg)) {
-            (Some(bits), _) if bits & (1 << bit) == 0 => "-".to_owned(),
-            // The register's ends (-20..100 °C) hold any reading beyond them.
-            (_, Some(0)) => "≤-20.0".to_owned(),
-            (_, Some(0xfffe..)) => "≥100.0".to_owned(),
-            _ => cell(s.value(0, reg), 1),
-        }
+    let temp = |reg: u8| match s.raw(0, reg) {
+        _ if s.no_reading(0, reg) => "-".to_owned(),
+        // The register's ends (-20..100 °C) hold any reading beyond them.
+        Some(0) => "≤-20.0".to_owned(),
+        Some(0xfffe..) => "≥100.0".to_owned(),
+        _ => cell(s.value(0, reg), 1),
     };
     let ambient = temp(id::REGMASTER_TEMPAMBIENT);
     let temps: Vec<String> = (id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9)

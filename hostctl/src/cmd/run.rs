@@ -25,12 +25,12 @@ use shared::regs::{id, Register};
 use super::live::{actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
 use super::pc::{Motor, Op, WHEELS};
 use super::script::{self, Action, Line};
-use super::{configure, fresh, set_frame, SetRead};
+use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
-use crate::resolve::{self, Target};
+use crate::resolve;
 use crate::table::Screen;
 
 /// Arguments of `run`.
@@ -153,47 +153,59 @@ pub fn run<P: Port>(
             }
             output.out.flush()?;
         }
-        let step = |source| HostError::ScriptStep {
-            path: plan.path.clone(),
-            line: line.number,
-            text: line.text.clone(),
-            source: Box::new(source),
-        };
-        // The view shows the demands as they stand after this line. A write the master
-        // refuses (it answered, so the link works) does not stop the line's other writes:
-        // a `stop` must reach every board it can, as the master itself sends a frame's
-        // other writes after a refused one. The line fails after them, naming what was
-        // refused; anything else (a timeout, a dead port) stops at once.
-        let mut refused = Vec::new();
-        let writes = line
-            .actions
-            .iter()
-            .filter(|a| matches!(a, Action::Op(Op::Write(_))))
-            .count();
-        for action in &line.actions {
-            if !refused.is_empty() && !matches!(action, Action::Op(_)) {
-                break;
+        // The view shows the demands as they stand after this line.
+        run_line(line, link, clock, &poller, &mut session, output).map_err(|source| {
+            HostError::ScriptStep {
+                path: plan.path.clone(),
+                line: line.number,
+                text: line.text.clone(),
+                source: Box::new(source),
             }
-            match act(action, link, clock, &poller, line, &mut session, output) {
-                Ok(()) => {}
-                Err(e @ HostError::WriteRefused { .. }) => refused.push(e),
-                Err(e) => return Err(step(e)),
-            }
-        }
-        let count = refused.len();
-        if let Some(first) = refused.into_iter().next() {
-            return Err(step(if writes == 1 {
-                first
-            } else {
-                HostError::WritesRefused {
-                    refused: count,
-                    writes,
-                    first: Box::new(first),
-                }
-            }));
-        }
+        })?;
     }
     Ok(())
+}
+
+/// Runs one line's actions. A write the master refuses (it answered, so the link works)
+/// does not stop the line's other writes: a `stop` must reach every board it can, as the
+/// master itself sends a frame's other writes after a refused one. The line fails after
+/// them, naming what was refused; anything else (a timeout, a dead port) stops at once.
+fn run_line<P: Port>(
+    line: &Line,
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    poller: &Poller,
+    session: &mut Session,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let writes = line
+        .actions
+        .iter()
+        .filter(|a| matches!(a, Action::Op(Op::Write(_))))
+        .count();
+    let mut refused = 0;
+    let mut first = None;
+    for action in &line.actions {
+        if first.is_some() && !matches!(action, Action::Op(_)) {
+            break;
+        }
+        match act(action, link, clock, poller, line, session, output) {
+            Err(e @ HostError::WriteRefused { .. }) => {
+                refused += 1;
+                first.get_or_insert(e);
+            }
+            other => other?,
+        }
+    }
+    match first {
+        None => Ok(()),
+        Some(first) if writes == 1 => Err(first),
+        Some(first) => Err(HostError::WritesRefused {
+            refused,
+            writes,
+            first: Box::new(first),
+        }),
+    }
 }
 
 /// What a run keeps from line to line.
@@ -223,17 +235,6 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
         .collect()
 }
 
-/// Whether `show`'s register `reg` of `device` holds no reading: a master temperature
-/// whose REGMASTER_TEMPSREAD bit (polled with the master's row) is clear holds 0.0 °C,
-/// which is no value.
-fn no_reading(s: &Snapshot, device: u8, reg: &Register) -> bool {
-    let Some(bit) = Target::of(device).and_then(|target| fresh::sensor_bit(target, reg)) else {
-        return false;
-    };
-    s.raw(0, id::REGMASTER_TEMPSREAD)
-        .is_some_and(|read| read & bit == 0)
-}
-
 /// The `show` values as text: a line per set.
 fn shown_lines(shown: &Shown, s: &Snapshot) -> Vec<String> {
     shown
@@ -242,7 +243,7 @@ fn shown_lines(shown: &Shown, s: &Snapshot) -> Vec<String> {
             let cells: Vec<String> = values
                 .iter()
                 .map(|&(reg, raw)| {
-                    if no_reading(s, *device, reg) {
+                    if s.no_reading(*device, reg.id) {
                         format!("{} - (no reading)", reg.short_name())
                     } else {
                         format!(
@@ -266,7 +267,7 @@ fn shown_json(shown: &Shown, s: &Snapshot) -> String {
             let object = json::Object::new()
                 .str("register", reg.name)
                 .int("raw", raw);
-            if no_reading(s, *device, reg) {
+            if s.no_reading(*device, reg.id) {
                 object.raw("value", "null")
             } else {
                 object.num("value", mapping::unmap(raw, reg))
