@@ -135,10 +135,15 @@ impl<P: Port> Link<P> {
         Ok(reply)
     }
 
-    /// The bytes waiting to be read now, without waiting for more (at most
-    /// [`STRAY_MAX`], so a line that never falls silent cannot hold the command up).
+    /// The bytes waiting to be read now, without waiting for more.
     fn stray(&mut self) -> Result<Vec<u8>, HostError> {
-        self.port.set_timeout(Duration::ZERO)?;
+        self.waiting(Duration::ZERO)
+    }
+
+    /// The bytes that arrive with no gap longer than `gap` (at most [`STRAY_MAX`], so a
+    /// line that never falls silent cannot hold the command up).
+    fn waiting(&mut self, gap: Duration) -> Result<Vec<u8>, HostError> {
+        self.port.set_timeout(gap)?;
         let mut out = Vec::new();
         let mut buf = [0u8; 64];
         while out.len() < STRAY_MAX {
@@ -210,18 +215,10 @@ impl<P: Port> Link<P> {
         }
     }
 
-    /// Reads and drops whatever arrives within [`DRAIN_TIMEOUT`] (at most 1 KiB, so a line
-    /// that never falls silent cannot hold the failure up).
+    /// Reads and drops whatever arrives within [`DRAIN_TIMEOUT`] of the last byte (at most
+    /// [`STRAY_MAX`]); a failing port is left to the probe that follows.
     fn drain(&mut self) {
-        if self.port.set_timeout(DRAIN_TIMEOUT).is_err() {
-            return;
-        }
-        let mut sink = [0u8; 64];
-        for _ in 0..16 {
-            if !matches!(self.port.read(&mut sink), Ok(n) if n > 0) {
-                break;
-            }
-        }
+        let _ = self.waiting(DRAIN_TIMEOUT);
     }
 }
 
