@@ -25,6 +25,11 @@ fn set_of(kind: BoardKind) -> u8 {
     }
 }
 
+/// The legend of a position marked `*`.
+pub const NOT_DEGREES: &str = "* not degrees: the board's pot calibration is not the wheel's (no \
+`calibrate` since the port opened; or since then a `stop`, which sends -100/100, a write to its \
+CALIBMIN or CALIBMAX, or a hard reset)";
+
 /// update()'s reads, in its order: controllers 1..9, then the master.
 pub struct Poller {
     reads: Vec<SetRead>,
@@ -358,11 +363,7 @@ pub fn view_lines(
         );
     }
     if uncalibrated {
-        lines.push(
-            "* not degrees: the board's pot calibration is not the wheel's (no `calibrate` since \
-             the port opened, or a `stop`, which sends -100/100)"
-                .to_owned(),
-        );
+        lines.push(NOT_DEGREES.to_owned());
     }
     lines.push(master_line(s));
     lines.push(format!(
@@ -525,11 +526,30 @@ mod tests {
             "1              -     1000          -   40.0*         -   20.0*  -"
         );
         let legend = "* not degrees: the board's pot calibration is not the wheel's (no \
-                      `calibrate` since the port opened, or a `stop`, which sends -100/100)";
+                      `calibrate` since the port opened; or since then a `stop`, which sends \
+                      -100/100, a write to its CALIBMIN or CALIBMAX, or a hard reset)";
         assert_eq!(lines[8], legend);
         pc.calibrate().unwrap();
         let lines = view(&pc, &Dropped::default());
         assert!(!lines.iter().any(|l| l.contains('*')), "{lines:#?}");
+        // A write of 70° to wheel 1's steer CALIBMAX leaves only that position off its
+        // calibration.
+        let max = BoardKind::DriveSteer
+            .register(id::REGDS_STEER_CALIBMAX)
+            .unwrap();
+        pc.note_write(1, max.id, mapping::map(70.0, max), 70.0);
+        let lines = view(&pc, &Dropped::default());
+        assert_eq!(
+            lines[2],
+            "1              -     1000          -   40.0*         -    20.0  -"
+        );
+        assert_eq!(
+            lines.iter().filter(|l| l.contains('*')).count(),
+            2,
+            "{lines:#?}"
+        );
+        assert_eq!(lines[8], legend);
+        pc.calibrate().unwrap();
         // After the operator's stop the calibration is -100/100 again.
         pc.emergency_stop().unwrap();
         let lines = view(&pc, &Dropped::default());

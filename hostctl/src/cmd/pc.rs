@@ -8,13 +8,16 @@
 
 use shared::mapping;
 use shared::protocol::{self, Write};
-use shared::regs::{id, BoardKind};
+use shared::regs::{id, BoardKind, Register};
 
 use super::Frame;
 use crate::error::{Allowed, HostError};
 
 /// The rover's wheels.
 pub const WHEELS: std::ops::RangeInclusive<u8> = 1..=6;
+
+/// REG_RESET's bit that reboots the board through its watchdog (reference §6.2).
+const HARD_RESET: u16 = 2;
 
 /// One of a wheel's motors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,6 +56,44 @@ pub fn device_of(wheel: u8, motor: Motor) -> u8 {
     match motor {
         Motor::Drive | Motor::Steer => 3 * pair + if wheel % 2 == 1 { 1 } else { 2 },
         Motor::Lift => 3 * pair + 3,
+    }
+}
+
+/// The board kind that drives `motor`.
+fn board_kind(motor: Motor) -> BoardKind {
+    match motor {
+        Motor::Drive | Motor::Steer => BoardKind::DriveSteer,
+        Motor::Lift => BoardKind::LiftLift,
+    }
+}
+
+/// The wheel and position motor whose angle `reg` of `device` belongs to, by the register's
+/// name (`REGDS_STEER_…`, `REGLL_ONE_…`, `REGLL_TWO_…`); `None` for any other register.
+pub fn position_motor(device: u8, reg: &Register) -> Option<(u8, Motor)> {
+    let (motor, odd) = if reg.name.starts_with("REGDS_STEER_") {
+        (Motor::Steer, None)
+    } else if reg.name.starts_with("REGLL_ONE_") {
+        (Motor::Lift, Some(true))
+    } else if reg.name.starts_with("REGLL_TWO_") {
+        (Motor::Lift, Some(false))
+    } else {
+        return None;
+    };
+    WHEELS
+        .into_iter()
+        .find(|&w| device_of(w, motor) == device && odd.is_none_or(|odd| (w % 2 == 1) == odd))
+        .map(|w| (w, motor))
+}
+
+/// A position motor's CALIBMIN and CALIBMAX registers on its board; `None` for a drive.
+fn calib_registers(wheel: u8, motor: Motor) -> Option<[u8; 2]> {
+    match motor {
+        Motor::Drive => None,
+        Motor::Steer => Some([id::REGDS_STEER_CALIBMIN, id::REGDS_STEER_CALIBMAX]),
+        Motor::Lift => Some([
+            id::REGLL_ONE_CALIBMIN + lift_offset(wheel),
+            id::REGLL_ONE_CALIBMAX + lift_offset(wheel),
+        ]),
     }
 }
 
@@ -166,6 +207,10 @@ pub struct Pc {
     demands: [[Option<f32>; 3]; 6],
     /// How many demands each motor has been sent: tells a new demand from an old one.
     sends: [[u32; 3]; 6],
+    /// Each position motor's pot calibration as its board holds it: raw CALIBMIN and
+    /// CALIBMAX as this session's writes left them (`None`: the board's power-up value, as
+    /// opening the port rebooted it, or after a hard reset).
+    on_board: [[[Option<u16>; 2]; 3]; 6],
 }
 
 impl Default for Pc {
@@ -211,6 +256,7 @@ impl Pc {
             blocks: [[Block::DEFAULT; 3]; 6],
             demands: [[None; 3]; 6],
             sends: [[0; 3]; 6],
+            on_board: [[[None; 2]; 3]; 6],
         }
     }
 
@@ -223,17 +269,28 @@ impl Pc {
         &mut self.blocks[usize::from(wheel - 1)][motor.index()]
     }
 
-    /// Whether `motor` of `wheel` reads in degrees: a position motor only once the block
+    /// Whether `motor` of `wheel` reads in degrees: a position motor only once its board
     /// holds the wheel's calibration, as `calibrate` sends it. Before that the board is on
-    /// its boot calibration (−512..512), and after `stop` on −100/100.
+    /// its boot calibration (−512..512); after `stop` on −100/100; after a write to CALIBMIN
+    /// or CALIBMAX on what was written; after a hard reset on its boot calibration again.
     pub fn calibrated(&self, wheel: u8, motor: Motor) -> bool {
         let w = usize::from(wheel - 1);
-        let calib = self.block(wheel, motor).calib;
-        match motor {
-            Motor::Drive => true,
-            Motor::Steer => STEER_CALIBRATION.get(w) == Some(&calib),
-            Motor::Lift => LIFT_CALIBRATION.get(w) == Some(&calib),
-        }
+        let (regs, table) = match motor {
+            Motor::Drive => return true,
+            Motor::Steer => (calib_registers(wheel, motor), STEER_CALIBRATION.get(w)),
+            Motor::Lift => (calib_registers(wheel, motor), LIFT_CALIBRATION.get(w)),
+        };
+        let (Some(regs), Some(&(min, max))) = (regs, table) else {
+            return false;
+        };
+        let kind = board_kind(motor);
+        let held = self.on_board[w][motor.index()];
+        regs.iter()
+            .zip([min, max])
+            .zip(held)
+            .all(|((&reg, value), held)| {
+                held.is_some() && held == kind.register(reg).map(|r| mapping::map(value, r))
+            })
     }
 
     /// How many demands `motor` of `wheel` has been sent in this session.
@@ -253,8 +310,9 @@ impl Pc {
         self.demands[usize::from(wheel - 1)][motor.index()]
     }
 
-    /// Records a demand written directly (`write DEV REG VALUE` on a demand register).
-    pub fn note_write(&mut self, device: u8, reg: u8, value: f32) {
+    /// Records a write sent directly (`write DEV REG VALUE`): a demand, an end of a pot
+    /// calibration, or a hard reset (see [`Pc::calibrated`]).
+    pub fn note_write(&mut self, device: u8, reg: u8, raw: u16, value: f32) {
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 if device_of(wheel, motor) == device && demand_register(wheel, motor) == reg {
@@ -262,10 +320,32 @@ impl Pc {
                 }
             }
         }
+        self.note_board_write(device, reg, raw);
+    }
+
+    /// Keeps track of the pot calibrations on the boards: a CALIBMIN or CALIBMAX write
+    /// sets one end; REG_RESET with bit 2 reboots the board, back to its power-up ends.
+    fn note_board_write(&mut self, device: u8, reg: u8, raw: u16) {
+        for wheel in WHEELS {
+            for motor in [Motor::Steer, Motor::Lift] {
+                if device_of(wheel, motor) != device {
+                    continue;
+                }
+                let held = &mut self.on_board[usize::from(wheel - 1)][motor.index()];
+                if reg == id::REG_RESET && raw & HARD_RESET != 0 {
+                    *held = [None; 2];
+                }
+                if let Some(end) = calib_registers(wheel, motor)
+                    .and_then(|regs| regs.iter().position(|&r| r == reg))
+                {
+                    held[end] = Some(raw);
+                }
+            }
+        }
     }
 
     /// sendParams: the whole block of `motor` of `wheel` as one write (reference §8.2).
-    pub fn send_params(&self, wheel: u8, motor: Motor) -> Result<Op, HostError> {
+    pub fn send_params(&mut self, wheel: u8, motor: Motor) -> Result<Op, HostError> {
         let b = self.block(wheel, motor);
         let device = device_of(wheel, motor);
         let (kind, regs, values): (BoardKind, Vec<u8>, Vec<f32>) = match motor {
@@ -336,6 +416,9 @@ impl Pc {
             .zip(&values)
             .map(|(&reg, &v)| raw(kind, device, reg, v))
             .collect::<Result<Vec<_>, _>>()?;
+        for write in &writes {
+            self.note_board_write(device, write.id, write.raw);
+        }
         write_frame(device, &writes, "a parameter block")
     }
 
@@ -344,11 +427,7 @@ impl Pc {
     pub fn set_required(&mut self, wheel: u8, motor: Motor, value: f32) -> Result<Op, HostError> {
         let device = device_of(wheel, motor);
         let reg = demand_register(wheel, motor);
-        let kind = if motor == Motor::Lift {
-            BoardKind::LiftLift
-        } else {
-            BoardKind::DriveSteer
-        };
+        let kind = board_kind(motor);
         if motor != Motor::Drive {
             let (min, max) = self.block(wheel, motor).limits();
             if !(min..=max).contains(&value) {
@@ -615,7 +694,7 @@ mod tests {
             Some(60.0),
             "a refused demand is not recorded"
         );
-        pc.note_write(6, 27, 12.5);
+        pc.note_write(6, 27, 0, 12.5);
         assert_eq!(
             pc.demand(4, Motor::Lift),
             Some(12.5),
@@ -625,6 +704,67 @@ mod tests {
             pc.set_required(1, Motor::Drive, 4000.5),
             Err(HostError::OutOfRange { .. })
         ));
+    }
+
+    #[test]
+    fn the_boards_calibration_follows_direct_writes_and_hard_resets() {
+        let mut pc = Pc::new();
+        assert!(!pc.calibrated(1, Motor::Steer), "boot calibration");
+        assert!(pc.calibrated(1, Motor::Drive), "a speed has no pot");
+        pc.calibrate().unwrap();
+        let on_wheels =
+            |pc: &Pc, motor| -> Vec<bool> { WHEELS.map(|w| pc.calibrated(w, motor)).collect() };
+        let all: Vec<bool> = vec![true; 6];
+        assert_eq!(on_wheels(&pc, Motor::Steer), all);
+        assert_eq!(on_wheels(&pc, Motor::Lift), all);
+        // Wheel 3's steer CALIBMIN written to -50 (its table says -59), then back.
+        let min = BoardKind::DriveSteer
+            .register(id::REGDS_STEER_CALIBMIN)
+            .unwrap();
+        pc.note_write(4, min.id, mapping::map(-50.0, min), -50.0);
+        assert_eq!(
+            on_wheels(&pc, Motor::Steer),
+            [true, true, false, true, true, true]
+        );
+        pc.note_write(4, min.id, mapping::map(-59.0, min), -59.0);
+        assert_eq!(on_wheels(&pc, Motor::Steer), all);
+        // REG_RESET 1 clears exceptions only; 2 (or 6) reboots the board: controller 6 is
+        // the LL board of wheels 3 and 4, controller 1 the DS board of wheel 1.
+        pc.note_write(6, id::REG_RESET, 1, 1.0);
+        assert_eq!(on_wheels(&pc, Motor::Lift), all);
+        pc.note_write(6, id::REG_RESET, 2, 2.0);
+        assert_eq!(
+            on_wheels(&pc, Motor::Lift),
+            [true, true, false, false, true, true]
+        );
+        pc.note_write(1, id::REG_RESET, 6, 6.0);
+        assert_eq!(
+            on_wheels(&pc, Motor::Steer),
+            [false, true, true, true, true, true]
+        );
+        // Only both ends written back make it the wheel's calibration again.
+        let max = BoardKind::DriveSteer
+            .register(id::REGDS_STEER_CALIBMAX)
+            .unwrap();
+        pc.note_write(1, min.id, mapping::map(-56.0, min), -56.0);
+        assert!(!pc.calibrated(1, Motor::Steer));
+        pc.note_write(1, max.id, mapping::map(66.0, max), 66.0);
+        assert!(pc.calibrated(1, Motor::Steer));
+    }
+
+    #[test]
+    fn a_position_register_names_its_wheel_and_motor() {
+        let reg = |kind: BoardKind, id| kind.register(id).unwrap();
+        let steer = reg(BoardKind::DriveSteer, id::REGDS_STEER_ACTUALPOS);
+        assert_eq!(position_motor(1, steer), Some((1, Motor::Steer)));
+        assert_eq!(position_motor(8, steer), Some((6, Motor::Steer)));
+        let one = reg(BoardKind::LiftLift, id::REGLL_ONE_ACTUALPOS);
+        let two = reg(BoardKind::LiftLift, id::REGLL_TWO_ACTUALPOS);
+        assert_eq!(position_motor(6, one), Some((3, Motor::Lift)));
+        assert_eq!(position_motor(6, two), Some((4, Motor::Lift)));
+        let drive = reg(BoardKind::DriveSteer, id::REGDS_DRIVE_ACTUALSPEED);
+        assert_eq!(position_motor(1, drive), None);
+        assert_eq!(position_motor(3, steer), None, "controller 3 has no steer");
     }
 
     #[test]

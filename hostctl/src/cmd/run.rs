@@ -22,8 +22,11 @@ use std::time::{Duration, Instant};
 use shared::mapping;
 use shared::regs::{id, Register};
 
-use super::live::{actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot};
-use super::pc::{Motor, Op, WHEELS};
+use super::fresh;
+use super::live::{
+    actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot, NOT_DEGREES,
+};
+use super::pc::{self, Motor, Op, Pc, WHEELS};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
@@ -235,44 +238,70 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
         .collect()
 }
 
-/// The `show` values as text: a line per set.
-fn shown_lines(shown: &Shown, s: &Snapshot) -> Vec<String> {
-    shown
+/// Whether `reg` of `device` is an angle on a pot calibration that is not its wheel's (see
+/// [`Pc::calibrated`]); `None` when it is no such angle.
+fn off_calibration(pc: &Pc, device: u8, reg: &Register) -> Option<bool> {
+    if !fresh::on_calibrated_scale(reg) {
+        return None;
+    }
+    let (wheel, motor) = pc::position_motor(device, reg)?;
+    Some(!pc.calibrated(wheel, motor))
+}
+
+/// The `show` values as text: a line per set, angles off the wheel's calibration marked
+/// `*` as in the view, with the legend after them when the view has not given it.
+fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<String> {
+    let mut marked = false;
+    let mut lines: Vec<String> = shown
         .iter()
         .map(|(device, values)| {
             let cells: Vec<String> = values
                 .iter()
                 .map(|&(reg, raw)| {
                     if s.no_reading(*device, reg.id) {
-                        format!("{} - (no reading)", reg.short_name())
-                    } else {
-                        format!(
-                            "{} {}{}",
-                            reg.short_name(),
-                            resolve::show(reg, raw),
-                            resolve::unit_suffix(reg)
-                        )
+                        return format!("{} - (no reading)", reg.short_name());
                     }
+                    let mark = if off_calibration(pc, *device, reg) == Some(true) {
+                        marked = true;
+                        "*"
+                    } else {
+                        ""
+                    };
+                    format!(
+                        "{} {}{}{mark}",
+                        reg.short_name(),
+                        resolve::show(reg, raw),
+                        resolve::unit_suffix(reg)
+                    )
                 })
                 .collect();
             format!("device {device}: {}", cells.join(", "))
         })
-        .collect()
+        .collect();
+    if marked && !view.iter().any(|l| l == NOT_DEGREES) {
+        lines.push(NOT_DEGREES.to_owned());
+    }
+    lines
 }
 
-/// The `show` values as a JSON array (`value` null for no reading).
-fn shown_json(shown: &Shown, s: &Snapshot) -> String {
+/// The `show` values as a JSON array (`value` null for no reading; `calibrated` for an
+/// angle through a pot calibration, false when it is not the wheel's).
+fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc) -> String {
     json::array(shown.iter().map(|(device, values)| {
         let values = json::array(values.iter().map(|&(reg, raw)| {
             let object = json::Object::new()
                 .str("register", reg.name)
                 .int("raw", raw);
-            if s.no_reading(*device, reg.id) {
+            let object = if s.no_reading(*device, reg.id) {
                 object.raw("value", "null")
             } else {
                 object.num("value", mapping::unmap(raw, reg))
             }
-            .str("unit", reg.unit)
+            .str("unit", reg.unit);
+            match off_calibration(pc, *device, reg) {
+                Some(off) => object.raw("calibrated", if off { "false" } else { "true" }),
+                None => object,
+            }
             .finish()
         }));
         json::Object::new()
@@ -351,7 +380,7 @@ fn view_json(
     if shown.is_empty() {
         view.finish()
     } else {
-        view.raw("shown", &shown_json(shown, s)).finish()
+        view.raw("shown", &shown_json(shown, s, &line.pc)).finish()
     }
 }
 
@@ -434,7 +463,8 @@ fn live<P: Port>(
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
             let dropped = &session.dropped;
             let mut lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
-            lines.extend(shown_lines(&shown, &snapshot));
+            let shown_text = shown_lines(&shown, &snapshot, &line.pc, &lines);
+            lines.extend(shown_text);
             let text = if output.json {
                 let mut t = view_json(&snapshot, line, dropped, &shown, elapsed, updates, rate);
                 t.push('\n');
@@ -611,6 +641,48 @@ mod tests {
                     "\"register\":\"REGMASTER_TEMP1\",\"raw\":{raw},\"value\":{value}"
                 )),
                 "{}",
+                ran.text
+            );
+        }
+    }
+
+    #[test]
+    fn a_shown_angle_off_the_wheels_calibration_is_marked() {
+        // `show 1 steer_actualpos drive_error`, once on the boot calibration, once after
+        // `calibrate` (30 frames answered 00). The show set's 4 bytes: ACTUALPOS 0x8000,
+        // ERROR 0x8000.
+        for (script, calibrate) in [("", false), ("calibrate\n", true)] {
+            let mut replies = configure_replies();
+            replies.push(vec![2]);
+            if calibrate {
+                replies.extend(std::iter::repeat_n(vec![0], 30));
+            }
+            for _ in 0..2 {
+                replies.extend(update_replies());
+                replies.push(vec![0x00, 0x80, 0x00, 0x80]);
+            }
+            let source = format!("show 1 steer_actualpos drive_error\n{script}wait 0.01\n");
+            let ran = run_script(&source, &replies, false);
+            ran.result.unwrap();
+            let mark = if calibrate { "" } else { "*" };
+            let want =
+                format!("\ndevice 1: STEER_ACTUALPOS 0.006 deg{mark}, DRIVE_ERROR 0.031 ticks/s\n");
+            assert!(ran.text.contains(&want), "{}", ran.text);
+            let legends = ran.text.matches(NOT_DEGREES).count();
+            assert_eq!(legends, usize::from(!calibrate), "{}", ran.text);
+            let ran = run_script(&source, &replies, true);
+            ran.result.unwrap();
+            let calibrated = if calibrate { "true" } else { "false" };
+            assert!(
+                ran.text.contains(&format!(
+                    "\"register\":\"REGDS_STEER_ACTUALPOS\",\"raw\":32768,\"value\":0.0061035156,\"unit\":\"deg\",\"calibrated\":{calibrated}}}"
+                )),
+                "{}",
+                ran.text
+            );
+            assert!(
+                ran.text.contains("\"unit\":\"ticks/s\"}"),
+                "a speed has no calibration: {}",
                 ran.text
             );
         }

@@ -259,7 +259,7 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
                 register: (*reg).to_owned(),
                 value: (*value).to_owned(),
             })?;
-            pc.note_write(plan.target.device, plan.reg.id, plan.value);
+            pc.note_write(plan.target.device, plan.reg.id, plan.raw, plan.value);
             Ok(vec![Action::Op(Op::Write(pc::Send {
                 device: plan.target.device,
                 frame: plan.frame.to_vec(),
