@@ -25,7 +25,9 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
 
-    /// Print one JSON object per line instead of text for people.
+    /// Print one JSON object per line instead of text for people. A failure is a last
+    /// line `{"command":…,"error":…}` (a script's also with its `line` and `text`), as well
+    /// as the error on stderr and exit status 1.
     #[arg(long, global = true)]
     pub json: bool,
 
@@ -83,4 +85,17 @@ pub enum Command {
     /// and lift: the calibration less 10°); `write` only against the register's range, as
     /// the original library's own register writes are.
     Run(cmd::run::Args),
+}
+
+impl Command {
+    /// The subcommand's name, as typed.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Write(_) => "write",
+            Command::Read(_) => "read",
+            Command::Readset(_) => "readset",
+            Command::Watch(_) => "watch",
+            Command::Run(_) => "run",
+        }
+    }
 }

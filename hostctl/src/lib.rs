@@ -158,11 +158,39 @@ pub fn run_with<P: Port>(
     style: Style,
     out: &mut dyn Write,
 ) -> Result<(), HostError> {
-    let plan = plan(&cli.command)?;
-    let path = match port_path(cli.port.as_deref(), env_port) {
-        Err(HostError::NoPort) => fallback()?,
-        other => other?,
-    };
-    let mut link = open(&path)?;
-    execute_with_clock(&plan, &mut link, style, out, &mut *twin::clock_for(&path))
+    let result = (|| {
+        let plan = plan(&cli.command)?;
+        let path = match port_path(cli.port.as_deref(), env_port) {
+            Err(HostError::NoPort) => fallback()?,
+            other => other?,
+        };
+        let mut link = open(&path)?;
+        execute_with_clock(
+            &plan,
+            &mut link,
+            style,
+            &mut *out,
+            &mut *twin::clock_for(&path),
+        )
+    })();
+    // A program reading the JSON lines learns of the failure there too, not only on stderr.
+    if let (true, Err(e)) = (style.json, &result) {
+        writeln!(out, "{}", error_json(&cli.command, e))?;
+    }
+    result
+}
+
+/// A failed command as one JSON line: the command, the error's words and, for a script
+/// line, its number and text.
+fn error_json(command: &Command, error: &HostError) -> String {
+    let object = json::Object::new()
+        .str("command", command.name())
+        .str("error", &error.to_string());
+    match error {
+        HostError::ScriptStep { line, text, .. } => object
+            .int("line", i64::try_from(*line).unwrap_or(i64::MAX))
+            .str("text", text),
+        _ => object,
+    }
+    .finish()
 }

@@ -844,6 +844,51 @@ fn run_with_json_prints_json_lines() {
     );
 }
 
+#[test]
+fn with_json_a_failure_is_a_json_line_too() {
+    // Refused input: nothing sent, the error as JSON on stdout (and as the result).
+    let o = hostctl::<&[u8]>("--json write 1 DRIVE_REQSPEED 5000", &[]);
+    assert!(!o.opened);
+    let e = o.result.unwrap_err().to_string();
+    assert!(e.starts_with("5000 is out of range"), "{e}");
+    assert_eq!(
+        o.out,
+        format!(
+            "{{\"command\":\"write\",\"error\":{}}}\n",
+            crate::json::string(&e)
+        )
+    );
+    // A script line the master refuses: its number and text too, after the lines printed.
+    let path = std::env::temp_dir().join(format!("hostctl-jerr-{}.rover", std::process::id()));
+    std::fs::write(&path, "say Go\nwrite 1 DRIVE_REQSPEED 10\n").unwrap();
+    let mut replies: Vec<Vec<u8>> = (1..=9u8)
+        .map(|d| vec![if d % 3 == 0 { 18 } else { 20 }])
+        .chain([vec![12]])
+        .collect();
+    replies.push(vec![0x8c]);
+    let o = hostctl(&format!("--json run {}", path.display()), &replies);
+    std::fs::remove_file(&path).unwrap();
+    let e = o.result.unwrap_err().to_string();
+    assert!(
+        e.contains("line 2 (`write 1 DRIVE_REQSPEED 10`) failed: device 1 refused"),
+        "{e}"
+    );
+    let last = o.out.lines().last().unwrap_or_default();
+    assert_eq!(
+        last,
+        format!(
+            "{{\"command\":\"run\",\"error\":{},\"line\":2,\"text\":\"write 1 DRIVE_REQSPEED 10\"}}",
+            crate::json::string(&e)
+        )
+    );
+    assert_eq!(
+        o.out.lines().count(),
+        4,
+        "start, say, echo, error: {}",
+        o.out
+    );
+}
+
 // ---- bad input: refused before the port is opened ----
 
 #[test]
