@@ -191,8 +191,10 @@ impl<P: Port> Link<P> {
     }
 
     /// After a timeout: the master's REGMASTER_LASTERROR and REGMASTER_ERRORCOUNT, read
-    /// through the scratch set with short timeouts, or [`MasterSays::Silent`]. The failed
-    /// command ends here, so overwriting the scratch set loses nothing.
+    /// through the scratch set with short timeouts, or [`MasterSays::Silent`]. This
+    /// overwrites the scratch set: a command that goes on after a timeout (a view past a
+    /// silent controller, [`crate::cmd::SetRead::run_or_silent`]) configures it again if it
+    /// uses it.
     fn master_says(&mut self) -> MasterSays {
         self.drain();
         let ids = [id::REGMASTER_LASTERROR, id::REGMASTER_ERRORCOUNT];

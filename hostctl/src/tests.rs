@@ -791,6 +791,97 @@ fn watch_json_gives_one_line_per_device_per_round() {
 }
 
 #[test]
+fn watch_goes_on_past_a_controller_that_does_not_answer() {
+    // Round 1: controller 6 is off the bus (no reply; the master's last link error is
+    // code 12, NoAnswer); round 2: it answers again.
+    let replies: [&[u8]; 9] = [
+        &[0x01],
+        &[0x01, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x03, 0x00],
+        &[0x04, 0x00],
+        &[0x05, 0x00],
+        &[0x06, 0x00],
+    ];
+    let args = "watch --readset 1 --count 2 --interval-ms 0 TIMER";
+    let o = hostctl(args, &replies);
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "04 34 01 01",
+            "03 33 01",
+            "03 63 01",
+            PROBE[0],
+            PROBE[1],
+            "03 93 01",
+            "03 33 01",
+            "03 63 01",
+            "03 93 01"
+        ]
+    );
+    let legend = "no answer: controller 6 does not answer the master on the I2C bus (unplugged, \
+                  unpowered or rebooting; the master stops every motor when one drops off); \
+                  read again every round, each after a 1 s wait";
+    assert!(
+        o.out.contains(&format!(
+            "read set 1, round 1\n\
+             dev      TIMER\n\
+             \x20           ms\n\
+             3            1\n\
+             6    no answer\n\
+             9            3\n\
+             {legend}\n"
+        )),
+        "{}",
+        o.out
+    );
+    assert!(o.out.contains("\n6        5\n"), "{}", o.out);
+    assert_eq!(o.out.matches(legend).count(), 1, "round 2 has no legend");
+    let o = hostctl(&format!("--json {args}"), &replies);
+    o.result.unwrap();
+    let lines: Vec<&str> = o.out.lines().collect();
+    assert_eq!(
+        lines[1],
+        "{\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":null}"
+    );
+    assert_eq!(lines.len(), 6);
+}
+
+#[test]
+fn a_watch_of_the_scratch_set_configures_it_again_after_a_silent_controller() {
+    // The master's answer about the silent controller went through set 7, the watched one.
+    let replies: [&[u8]; 6] = [
+        &[0x01],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x01],
+        &[0x09, 0x00],
+    ];
+    let o = hostctl(
+        "watch --readset 7 --device 4 --count 2 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "04 44 07 01",
+            "03 43 07",
+            PROBE[0],
+            PROBE[1],
+            "04 44 07 01",
+            "03 43 07"
+        ]
+    );
+    assert!(o.out.contains("\n4    no answer\n"), "{}", o.out);
+    assert!(o.out.contains("\n4        9\n"), "{}", o.out);
+}
+
+#[test]
 fn watch_stops_at_the_first_failed_read() {
     let replies: [&[u8]; 2] = [&[0x01], &[0x01]];
     let o = hostctl("watch --readset 4 --device 5 --count 3 TIMER", &replies);

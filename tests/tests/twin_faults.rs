@@ -13,7 +13,8 @@ mod twin_support;
 
 use std::time::Duration;
 
-use hostctl::cmd::pc::{Motor, WHEELS};
+use hostctl::cmd::live::{view_lines, Dropped, Snapshot};
+use hostctl::cmd::pc::{Motor, Pc, WHEELS};
 use shared::regs::id;
 use twin::wiring::Axis;
 use twin_support::{drive_speed, master_exception, rover, slave_exception, Session};
@@ -158,6 +159,56 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
     s.pass(0.1);
     let snap = s.update();
     assert!(snap.raw(5, id::REG_STATUS).is_some());
+}
+
+#[test]
+fn update_goes_on_past_a_controller_cut_off_the_bus_and_sees_it_come_back() {
+    let mut s = driving();
+    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
+    if boot_settle > 0.0 {
+        s.pass(boot_settle);
+    }
+    s.twin.borrow_mut().cut(5).unwrap();
+    // hostctl's update(): controller 5's read times out, the master names NoAnswer, and the
+    // other nine reads go on.
+    let snap = s.update();
+    assert_eq!(snap.silent(), [5]);
+    let speed = |snap: &Snapshot, w| {
+        let d = hostctl::cmd::pc::device_of(w, Motor::Drive);
+        snap.value(d, id::REGDS_DRIVE_ACTUALSPEED)
+    };
+    assert_eq!(speed(&snap, 4), None, "wheel 4 is on controller 5");
+    for w in [1, 2, 3, 5, 6] {
+        assert!(speed(&snap, w).is_some(), "wheel {w} read");
+    }
+    assert_eq!(
+        split(master_exception(&snap)),
+        (11, 5, 0),
+        "SlaveSilent on 5"
+    );
+    let lines = view_lines(
+        &snap,
+        &Pc::new(),
+        &Dropped::default(),
+        Duration::ZERO,
+        1,
+        1.0,
+    );
+    assert!(
+        lines[5].starts_with("4 ") && lines[5].contains("  controller 5: no answer"),
+        "{lines:#?}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("no answer: controller 5 does not answer")),
+        "{lines:#?}"
+    );
+    // Back on the bus: the next update reads it again.
+    s.twin.borrow_mut().restore(5).unwrap();
+    let snap = s.update();
+    assert!(snap.silent().is_empty());
+    assert!(speed(&snap, 4).is_some());
 }
 
 #[test]

@@ -39,12 +39,23 @@ pub struct Poller {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Snapshot {
     rows: Vec<(u8, Vec<(u8, u16)>)>,
+    /// The controllers that did not answer, in update() order.
+    silent: Vec<u8>,
 }
 
 impl Snapshot {
     /// A snapshot from (device, [(register id, raw)]) rows.
     pub fn new(rows: Vec<(u8, Vec<(u8, u16)>)>) -> Snapshot {
-        Snapshot { rows }
+        Snapshot {
+            rows,
+            silent: Vec::new(),
+        }
+    }
+
+    /// The controllers that did not answer the master this update (their values are not
+    /// read: every value of theirs shows as "-").
+    pub fn silent(&self) -> &[u8] {
+        &self.silent
     }
 
     /// The raw value of register `reg` of `device`, if it was read.
@@ -115,14 +126,17 @@ impl Poller {
     /// update(): reads every set in order.
     pub fn update<P: Port>(&self, link: &mut Link<P>) -> Result<Snapshot, HostError> {
         let mut rows = Vec::with_capacity(self.reads.len());
+        let mut silent = Vec::new();
         for read in &self.reads {
-            let raws = read.run(link)?;
-            rows.push((
-                read.target.device,
-                read.regs.iter().map(|r| r.id).zip(raws).collect(),
-            ));
+            match read.run_or_silent(link)? {
+                Some(raws) => rows.push((
+                    read.target.device,
+                    read.regs.iter().map(|r| r.id).zip(raws).collect(),
+                )),
+                None => silent.push(read.target.device),
+            }
         }
-        Ok(Snapshot { rows })
+        Ok(Snapshot { rows, silent })
     }
 }
 
@@ -184,9 +198,26 @@ pub(crate) fn type_name(code: u8) -> String {
     }
 }
 
-/// The exceptions of one wheel's three motors, routed as the library routes them (DS:
-/// motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
+/// One wheel's exceptions column: its controllers that did not answer, then its motors'
+/// exceptions ("-": neither).
 pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
+    // A controller off the bus comes first: its exceptions are not known.
+    let mut words: Vec<String> = [Motor::Drive, Motor::Lift]
+        .map(|m| device_of(wheel, m))
+        .into_iter()
+        .filter(|d| s.silent.contains(d))
+        .map(|d| format!("controller {d}: no answer"))
+        .collect();
+    let exceptions = motor_exceptions(s, wheel);
+    if exceptions != "-" || words.is_empty() {
+        words.push(exceptions);
+    }
+    words.join("; ")
+}
+
+/// The exceptions of `wheel`'s three motors in words ("-": none), routed as the library
+/// routes them (DS: motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
+fn motor_exceptions(s: &Snapshot, wheel: u8) -> String {
     let mut parts: Vec<(Motor, String)> = Vec::new();
     if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Drive)) {
         if m != 1 {
@@ -364,6 +395,9 @@ pub fn view_lines(
     }
     if uncalibrated {
         lines.push(NOT_DEGREES.to_owned());
+    }
+    if !s.silent.is_empty() {
+        lines.push(super::no_answer_legend(&s.silent));
     }
     lines.push(master_line(s));
     lines.push(format!(

@@ -16,7 +16,7 @@ use shared::master::{LinkError, ERROR_REPLY_FLAG};
 use shared::protocol::{self, EncodeError};
 use shared::regs::Register;
 
-use crate::error::HostError;
+use crate::error::{HostError, MasterSays};
 use crate::link::Link;
 use crate::port::Port;
 use crate::resolve::Target;
@@ -118,4 +118,39 @@ impl SetRead {
         )?;
         Ok(values.iter().map(|&(_, raw)| raw).collect())
     }
+
+    /// [`SetRead::run`] for a view that goes on when a controller drops off the bus:
+    /// `Ok(None)` when the master says the controller did not answer on I²C (the reply
+    /// stopped short and its last link error is NoAnswer). The controller is read again
+    /// next time, so one that comes back shows again. Any other failure is an error.
+    pub fn run_or_silent<P: Port>(
+        &self,
+        link: &mut Link<P>,
+    ) -> Result<Option<Vec<u16>>, HostError> {
+        match self.run(link) {
+            Ok(values) => Ok(Some(values)),
+            Err(HostError::Timeout {
+                master: MasterSays::Answered { code, .. },
+                ..
+            }) if self.target.device != 0 && code == LinkError::NoAnswer as u8 => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The legend of a controller that did not answer.
+pub fn no_answer_legend(devices: &[u8]) -> String {
+    let list: Vec<String> = devices.iter().map(u8::to_string).collect();
+    let (who, does) = if devices.len() == 1 {
+        ("controller", "does")
+    } else {
+        ("controllers", "do")
+    };
+    format!(
+        "no answer: {who} {} {does} not answer the master on the I2C bus (unplugged, unpowered \
+         or rebooting; the master stops every motor when one drops off); read again every \
+         round, each after a {} s wait",
+        list.join(", "),
+        crate::link::REPLY_TIMEOUT.as_secs()
+    )
 }

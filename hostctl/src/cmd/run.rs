@@ -220,8 +220,9 @@ struct Session {
     shown: Vec<SetRead>,
 }
 
-/// The values of the `show` sets at one update: each set's device and its registers.
-type Shown = Vec<(u8, Vec<(&'static Register, u16)>)>;
+/// The values of the `show` sets at one update: each set's device and its registers, or
+/// `None` when the controller did not answer.
+type Shown = Vec<(u8, Option<Vec<(&'static Register, u16)>>)>;
 
 /// Reads every `show` set.
 fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, HostError> {
@@ -229,10 +230,10 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
         .shown
         .iter()
         .map(|read| {
-            let raws = read.run(link)?;
+            let raws = read.run_or_silent(link)?;
             Ok((
                 read.target.device,
-                read.regs.iter().copied().zip(raws).collect(),
+                raws.map(|raws| read.regs.iter().copied().zip(raws).collect()),
             ))
         })
         .collect()
@@ -255,6 +256,9 @@ fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<Str
     let mut lines: Vec<String> = shown
         .iter()
         .map(|(device, values)| {
+            let Some(values) = values else {
+                return format!("device {device}: no answer");
+            };
             let cells: Vec<String> = values
                 .iter()
                 .map(|&(reg, raw)| {
@@ -288,6 +292,12 @@ fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<Str
 /// angle through a pot calibration, false when it is not the wheel's).
 fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc) -> String {
     json::array(shown.iter().map(|(device, values)| {
+        let Some(values) = values else {
+            return json::Object::new()
+                .int("device", *device)
+                .raw("values", "null")
+                .finish();
+        };
         let values = json::array(values.iter().map(|&(reg, raw)| {
             let object = json::Object::new()
                 .str("register", reg.name)
@@ -375,6 +385,10 @@ fn view_json(
         .num("rate", rate as f32)
         .raw("wheels", &wheels)
         .raw("master_exception", &exception)
+        .raw(
+            "no_answer",
+            &json::array(s.silent().iter().map(u8::to_string)),
+        )
         .str("master", &master_line(s));
     // What `show` lines added, when there are any.
     if shown.is_empty() {
@@ -689,6 +703,50 @@ mod tests {
     }
 
     #[test]
+    fn the_view_goes_on_past_a_controller_that_does_not_answer() {
+        // Controller 4 (wheel 3's drive and steer) is off the bus in both updates: no reply,
+        // and the master's last link error is code 12 (NoAnswer).
+        let mut replies = configure_replies();
+        for _ in 0..2 {
+            for (i, reply) in update_replies().into_iter().enumerate() {
+                if i == 3 {
+                    replies.extend([vec![], vec![2], vec![0x0c, 0x01, 0x00]]);
+                } else {
+                    replies.push(reply);
+                }
+            }
+        }
+        let ran = run_script("wait 0.01\n", &replies, false);
+        ran.result.unwrap();
+        let text = ran.text;
+        assert!(
+            text.contains(
+                "\n3              -        ?          -        ?         -  -200.0*  controller 4: \
+                 no answer\n"
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("\nno answer: controller 4 does not answer the master on the I2C bus"),
+            "{text}"
+        );
+        assert_eq!(
+            ran.hex.len(),
+            10 + 2 * 12,
+            "ten reads and two probes an update"
+        );
+        let ran = run_script("wait 0.01\n", &replies, true);
+        ran.result.unwrap();
+        assert!(ran.text.contains("\"no_answer\":[4]"), "{}", ran.text);
+        assert!(
+            ran.text
+                .contains("\"exceptions\":\"controller 4: no answer\""),
+            "{}",
+            ran.text
+        );
+    }
+
+    #[test]
     fn show_adds_registers_to_every_view() {
         let mut replies = configure_replies();
         // The show set's count, then per update the ten reads and the show set's 4 bytes.
@@ -796,7 +854,7 @@ mod tests {
         assert_eq!(
             lines[6],
             format!(
-                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"no_answer":[],"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
                 wheels.join(",")
             )
         );

@@ -9,6 +9,9 @@
 //! When the master's row holds temperatures, REGMASTER_TEMPSREAD is read beside it through
 //! another set (the watched set keeps the library's contents), so a sensor the master has
 //! not read yet shows as "-", not as 0.0 °C.
+//!
+//! A controller the master reports off the bus (NoAnswer) shows as "no answer" and is read
+//! again each round; the watch goes on with the others.
 
 use std::time::Duration;
 
@@ -251,8 +254,10 @@ fn standard_regs(set: u8, target: Target) -> Result<Vec<&'static Register>, Host
 pub struct Row {
     /// The device read.
     pub target: Target,
-    /// Its registers and raw values, in set order.
-    pub values: Vec<(&'static Register, u16)>,
+    /// Its registers, in set order.
+    pub regs: Vec<&'static Register>,
+    /// Their raw values, or `None` when the controller did not answer the master.
+    pub raws: Option<Vec<u16>>,
     /// The master's REGMASTER_TEMPSREAD, read beside a row of temperatures.
     pub temps_read: Option<u16>,
 }
@@ -303,10 +308,21 @@ pub fn run<P: Port>(
         number += 1;
         let mut rows = Vec::with_capacity(plan.reads.len());
         for read in &plan.reads {
-            let raws = read.run(link)?;
+            let raws = read.run_or_silent(link)?;
+            // The master's answer to a silent controller came through the scratch set.
+            if raws.is_none() && plan.set == SCRATCH_SET {
+                super::configure(
+                    link,
+                    read.target,
+                    plan.set,
+                    &plan.set_frame,
+                    read.regs.len(),
+                )?;
+            }
             rows.push(Row {
                 target: read.target,
-                values: read.regs.iter().copied().zip(raws).collect(),
+                regs: read.regs.clone(),
+                raws,
                 temps_read: None,
             });
         }
@@ -334,7 +350,7 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     if let Some(first) = round.rows.first() {
         let mut names = vec!["dev".to_owned()];
         let mut units = vec![String::new()];
-        for (reg, _) in &first.values {
+        for reg in &first.regs {
             names.push(reg.short_name().to_owned());
             if first.target.device != 0 && super::fresh::on_calibrated_scale(reg) {
                 boot_scale = true;
@@ -346,9 +362,16 @@ pub fn table_lines(round: &Round) -> Vec<String> {
         table.headers = vec![names, units];
     }
     let mut unread = false;
+    let mut silent = Vec::new();
     for row in &round.rows {
         let mut cells = vec![row.target.device.to_string()];
-        cells.extend(row.values.iter().map(|&(reg, raw)| {
+        let Some(raws) = &row.raws else {
+            silent.push(row.target.device);
+            cells.push("no answer".to_owned());
+            table.rows.push(cells);
+            continue;
+        };
+        cells.extend(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
             if row.is_reading(reg) == Some(false) {
                 unread = true;
                 "-".to_owned()
@@ -370,6 +393,9 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     if unread {
         lines.push(format!("- no reading: {}", fresh::NOT_READ));
     }
+    if !silent.is_empty() {
+        lines.push(super::no_answer_legend(&silent));
+    }
     lines
 }
 
@@ -379,9 +405,14 @@ pub fn json_lines(round: &Round) -> Vec<String> {
         .rows
         .iter()
         .map(|row| {
-            let values = json::array(row.values.iter().map(|&(reg, raw)| {
-                fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg)).finish()
-            }));
+            // `values` null: the controller did not answer.
+            let values = match &row.raws {
+                Some(raws) => json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
+                    fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg))
+                        .finish()
+                })),
+                None => "null".to_owned(),
+            };
             json::Object::new()
                 .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
                 .int("set", round.set)
