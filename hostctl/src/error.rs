@@ -150,6 +150,22 @@ pub enum HostError {
         max: f32,
     },
 
+    /// `--pairs` is not a list of wheel pairs.
+    #[error("`--pairs {given}` is not a list of wheel pairs: give one or more of 0, 1, 2 separated by commas (pair p is wheels 2p+1 and 2p+2 on controllers 3p+1..3p+3, as the library's init() mask numbers them), e.g. `--pairs 0` for the front pair alone")]
+    BadPairs {
+        /// What was given.
+        given: String,
+    },
+
+    /// A script line names a wheel or controller of a pair `--pairs` leaves out.
+    #[error("{what} is on wheel pair {pair} (wheels {}, {}; controllers {}..{}), which --pairs leaves out; add {pair} to --pairs if it is fitted", 2 * pair + 1, 2 * pair + 2, 3 * pair + 1, 3 * pair + 3)]
+    PairLeftOut {
+        /// The wheel or controller, in words.
+        what: String,
+        /// Its pair, 0..2.
+        pair: u8,
+    },
+
     /// The script file could not be read.
     #[error("cannot read the script {path}: {source}")]
     ScriptFile {

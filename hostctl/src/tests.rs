@@ -983,6 +983,12 @@ fn with_json_a_failure_is_a_json_line_too() {
 // ---- bad input: refused before the port is opened ----
 
 #[test]
+fn a_bad_pairs_list_is_refused() {
+    assert!(refused("run --pairs 3 missing.rover")
+        .starts_with("`--pairs 3` is not a list of wheel pairs: give one or more of 0, 1, 2"));
+}
+
+#[test]
 fn bad_devices_are_refused() {
     assert_eq!(
         refused("write 10 RESET 1"),

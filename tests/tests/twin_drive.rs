@@ -8,8 +8,9 @@
 //! The second test runs the README's demo drive, `examples/demo.rover`, with hostctl's own
 //! `run` code over the twin in emulated time (calibrate, reset, drive at 1000, turn 40, lift
 //! wheel 1, stop) and checks the live view it prints against what the rover should be
-//! doing, so the demo shows real output of the emulated firmware. (Both tests live in one
-//! file so they run in parallel.)
+//! doing, so the demo shows real output of the emulated firmware. The third runs a script
+//! with `--pairs 0` on a twin whose pairs 1 and 2 are off the bus from power-up, as on a
+//! bench with the front pair alone. (The tests live in one file so they run in parallel.)
 //!
 //! NEEDS THE REAL SLAVE IMAGES: with stub slaves nothing answers on the bus and the first
 //! configuration of a read set fails.
@@ -167,7 +168,11 @@ fn row_after(text: &str, marker: &str, wheel: u8) -> Vec<f64> {
 #[test]
 fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
     let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/demo.rover");
-    let plan = run::plan(&run::Args { file }).unwrap();
+    let plan = run::plan(&run::Args {
+        file,
+        pairs: "0,1,2".into(),
+    })
+    .unwrap();
     let twin = Rc::new(RefCell::new(rover()));
     let port = EmuPort::new(Rc::clone(&twin));
     let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
@@ -218,4 +223,55 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
         assert_eq!([r[0], r[2], r[4]], [0.0, 0.0, 0.0], "wheel {w}: {r:?}");
     }
     assert!(tail.contains("master: no exception"), "{tail}");
+}
+
+#[test]
+fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
+    let dir = std::env::temp_dir().join(format!("blodwen-pairs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("bench.rover");
+    std::fs::write(&file, "calibrate\nreset\ndrive all 1000\nwatch 6\n").unwrap();
+    let plan = run::plan(&run::Args {
+        file,
+        pairs: "0".into(),
+    })
+    .unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let twin = Rc::new(RefCell::new(rover()));
+    for n in 4..=9 {
+        twin.borrow_mut().cut(n).unwrap();
+    }
+    let port = EmuPort::new(Rc::clone(&twin));
+    let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
+    let mut clock = EmuClock::new(Rc::clone(&twin));
+    clock.sleep(hostctl::link::SETTLE);
+    let mut out = Vec::new();
+    let result = run::run(
+        &plan,
+        &mut link,
+        &mut clock,
+        &mut Output {
+            out: &mut out,
+            in_place: false,
+            json: false,
+        },
+    );
+    let text = String::from_utf8(out).unwrap();
+    println!("{text}");
+    result.unwrap();
+    // The last view: wheels 1 and 2 at 1000, no row for the others, no exception (the
+    // master counts controllers that never answered as absent, not silent).
+    let tail = &text[text.rfind("> watch 6").unwrap()..];
+    let last = &tail[tail.rfind("wheel ").unwrap()..];
+    for w in 1..=2 {
+        let r = row_after(last, "wheel", w);
+        assert_eq!(r[0], 1000.0);
+        assert!((r[1] - 1000.0).abs() <= 50.0, "wheel {w}: {r:?}");
+    }
+    assert!(!last.contains("\n3 "), "{last}");
+    assert!(
+        last.contains("wheels 3, 4, 5, 6 not fitted (--pairs): not polled"),
+        "{last}"
+    );
+    assert!(last.contains("master: no exception"), "{last}");
 }

@@ -8,7 +8,7 @@ use shared::exception::ExceptionType;
 use shared::mapping;
 use shared::regs::{id, BoardKind};
 
-use super::pc::{device_of, Motor, Pc, WHEELS};
+use super::pc::{device_of, Motor, Pairs, Pc, WHEELS};
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
 use crate::link::Link;
@@ -90,8 +90,13 @@ impl Poller {
     /// The ten reads of update(), with the library's standard sets; the master's set also
     /// holds REGMASTER_TEMPSREAD, so a sensor not read yet is not shown as 0.0 °C.
     pub fn new() -> Result<Poller, HostError> {
+        Poller::for_pairs(Pairs::ALL)
+    }
+
+    /// [`Poller::new`] for the controllers of `pairs` and the master.
+    pub fn for_pairs(pairs: Pairs) -> Result<Poller, HostError> {
         let mut reads = Vec::new();
-        for device in (1..=9).chain([0]) {
+        for device in (1..=9).filter(|&d| pairs.has_device(d)).chain([0]) {
             let target = Target::of(device).ok_or(HostError::BadDevice {
                 given: device.to_string(),
             })?;
@@ -350,7 +355,7 @@ pub fn view_lines(
             format!("{text}*")
         }
     };
-    for wheel in WHEELS {
+    for wheel in pc.pairs().wheels() {
         table.rows.push(vec![
             wheel.to_string(),
             demand(
@@ -398,6 +403,16 @@ pub fn view_lines(
     }
     if !s.silent.is_empty() {
         lines.push(super::no_answer_legend(&s.silent));
+    }
+    let left_out: Vec<String> = WHEELS
+        .filter(|&w| !pc.pairs().has_wheel(w))
+        .map(|w| w.to_string())
+        .collect();
+    if !left_out.is_empty() {
+        lines.push(format!(
+            "wheels {} not fitted (--pairs): not polled",
+            left_out.join(", ")
+        ));
     }
     lines.push(master_line(s));
     lines.push(format!(

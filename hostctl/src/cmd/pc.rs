@@ -16,6 +16,80 @@ use crate::error::{Allowed, HostError};
 /// The rover's wheels.
 pub const WHEELS: std::ops::RangeInclusive<u8> = 1..=6;
 
+/// The wheel pairs fitted, as the library's init() mask has them: bit p for pair p, wheels
+/// 2p+1 and 2p+2 on controllers 3p+1..3p+3. A bench rover may have one pair only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pairs(u8);
+
+impl Pairs {
+    /// All three pairs: the whole rover.
+    pub const ALL: Pairs = Pairs(0b111);
+
+    /// Reads a list such as `0,2`.
+    pub fn parse(text: &str) -> Result<Pairs, HostError> {
+        let bad = || HostError::BadPairs {
+            given: text.to_owned(),
+        };
+        let mut mask = 0u8;
+        for word in text.split(',') {
+            match word.trim() {
+                "0" => mask |= 1,
+                "1" => mask |= 2,
+                "2" => mask |= 4,
+                _ => return Err(bad()),
+            }
+        }
+        Ok(Pairs(mask))
+    }
+
+    /// The library's mask.
+    pub fn mask(self) -> u8 {
+        self.0
+    }
+
+    /// Whether pair `pair` (0..2) is fitted.
+    fn has(self, pair: u8) -> bool {
+        pair < 3 && self.0 & (1 << pair) != 0
+    }
+
+    /// Whether `wheel` (1..6) is fitted.
+    pub fn has_wheel(self, wheel: u8) -> bool {
+        (1..=6).contains(&wheel) && self.has((wheel - 1) / 2)
+    }
+
+    /// Whether `device` is there: the master always, a controller when its pair is fitted.
+    pub fn has_device(self, device: u8) -> bool {
+        device == 0 || ((1..=9).contains(&device) && self.has((device - 1) / 3))
+    }
+
+    /// The fitted wheels, in order.
+    pub fn wheels(self) -> impl Iterator<Item = u8> {
+        WHEELS.filter(move |&w| self.has_wheel(w))
+    }
+
+    /// `Ok` when `wheel` is fitted, else the error naming its pair.
+    pub fn check_wheel(self, wheel: u8) -> Result<(), HostError> {
+        if self.has_wheel(wheel) {
+            return Ok(());
+        }
+        Err(HostError::PairLeftOut {
+            what: format!("wheel {wheel}"),
+            pair: (wheel.clamp(1, 6) - 1) / 2,
+        })
+    }
+
+    /// `Ok` when `device` is there, else the error naming its pair.
+    pub fn check_device(self, device: u8) -> Result<(), HostError> {
+        if self.has_device(device) {
+            return Ok(());
+        }
+        Err(HostError::PairLeftOut {
+            what: format!("controller {device}"),
+            pair: (device.clamp(1, 9) - 1) / 3,
+        })
+    }
+}
+
 /// REG_RESET's bit that reboots the board through its watchdog (reference §6.2).
 const HARD_RESET: u16 = 2;
 
@@ -211,6 +285,8 @@ pub struct Pc {
     /// CALIBMAX as this session's writes left them (`None`: the board's power-up value, as
     /// opening the port rebooted it, or after a hard reset).
     on_board: [[[Option<u16>; 2]; 3]; 6],
+    /// The pairs fitted: the library's calls reach only these.
+    pairs: Pairs,
 }
 
 impl Default for Pc {
@@ -252,12 +328,23 @@ fn raw(kind: BoardKind, device: u8, reg: u8, value: f32) -> Result<Write, HostEr
 impl Pc {
     /// The library after init: default blocks, no demands sent.
     pub fn new() -> Pc {
+        Pc::with_pairs(Pairs::ALL)
+    }
+
+    /// The library after init(mask) with `pairs` fitted.
+    pub fn with_pairs(pairs: Pairs) -> Pc {
         Pc {
+            pairs,
             blocks: [[Block::DEFAULT; 3]; 6],
             demands: [[None; 3]; 6],
             sends: [[0; 3]; 6],
             on_board: [[[None; 2]; 3]; 6],
         }
+    }
+
+    /// The pairs fitted.
+    pub fn pairs(&self) -> Pairs {
+        self.pairs
     }
 
     /// `motor`'s block for `wheel`.
@@ -425,6 +512,7 @@ impl Pc {
     /// setRequired: checks the demand as the library does (drive ±4000; positions within
     /// the calibration less 10°), records it and builds its write.
     pub fn set_required(&mut self, wheel: u8, motor: Motor, value: f32) -> Result<Op, HostError> {
+        self.pairs.check_wheel(wheel)?;
         let device = device_of(wheel, motor);
         let reg = demand_register(wheel, motor);
         let kind = board_kind(motor);
@@ -466,7 +554,7 @@ impl Pc {
     pub fn calibrate(&mut self) -> Result<Vec<Op>, HostError> {
         let pause = Op::Pause(std::time::Duration::from_millis(50));
         let mut ops = Vec::new();
-        for wheel in WHEELS {
+        for wheel in self.pairs.wheels() {
             let w = usize::from(wheel - 1);
             let drive = self.block_mut(wheel, Motor::Drive);
             (drive.p, drive.i, drive.d) = (0.01, 0.0, 0.0);
@@ -508,7 +596,7 @@ impl Pc {
     /// positions), sendParams, setRequired(0). 36 frames.
     pub fn emergency_stop(&mut self) -> Result<Vec<Op>, HostError> {
         let mut ops = vec![Op::Pause(std::time::Duration::from_millis(180))];
-        for wheel in WHEELS {
+        for wheel in self.pairs.wheels() {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 *self.block_mut(wheel, motor) = Block {
                     overcurrent: 200.0,
@@ -542,8 +630,16 @@ fn position_values(b: &Block) -> Vec<f32> {
 /// resetExceptions() (reference §8.5): REG_RESET = 1 to controllers 3p+1, 3p+2, 3p+3 of
 /// each pair, then REGMASTER_RESET = 1 to the master.
 pub fn reset_exceptions() -> Result<Vec<Op>, HostError> {
+    reset_exceptions_of(Pairs::ALL)
+}
+
+/// [`reset_exceptions`] on the pairs fitted.
+pub fn reset_exceptions_of(pairs: Pairs) -> Result<Vec<Op>, HostError> {
     let mut ops = Vec::new();
     for device in [1, 2, 3, 4, 5, 6, 7, 8, 9, 0] {
+        if !pairs.has_device(device) {
+            continue;
+        }
         let reg = if device == 0 {
             id::REGMASTER_RESET
         } else {

@@ -26,7 +26,7 @@ use super::fresh;
 use super::live::{
     actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot, NOT_DEGREES,
 };
-use super::pc::{self, Motor, Op, Pc, WHEELS};
+use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
@@ -42,6 +42,11 @@ pub struct Args {
     /// The script, e.g. examples/demo.rover.
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
+    /// The wheel pairs fitted, as the library's init() mask: pair p is wheels 2p+1 and
+    /// 2p+2 on controllers 3p+1..3p+3 (e.g. `--pairs 0` for a bench with the front pair).
+    /// Only these are polled, and `all`, calibrate, reset, stop and turn reach only them.
+    #[arg(long, value_name = "P,…", default_value = "0,1,2")]
+    pub pairs: String,
 }
 
 /// A checked script.
@@ -51,17 +56,20 @@ pub struct Plan {
     pub path: String,
     /// Its lines, checked, with their frames.
     pub lines: Vec<Line>,
+    /// The pairs fitted.
+    pub pairs: Pairs,
 }
 
 /// Reads and checks the script; nothing is sent.
 pub fn plan(args: &Args) -> Result<Plan, HostError> {
+    let pairs = Pairs::parse(&args.pairs)?;
     let path = args.file.display().to_string();
     let source = std::fs::read_to_string(&args.file).map_err(|source| HostError::ScriptFile {
         path: path.clone(),
         source,
     })?;
-    let lines = script::parse(&path, &source)?;
-    Ok(Plan { path, lines })
+    let lines = script::parse_for(&path, &source, pairs)?;
+    Ok(Plan { path, lines, pairs })
 }
 
 /// Time as the script sees it: the wall clock, or a fake one in tests.
@@ -122,7 +130,7 @@ pub fn run<P: Port>(
     clock: &mut dyn Clock,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
-    let poller = Poller::new()?;
+    let poller = Poller::for_pairs(plan.pairs)?;
     poller.configure(link)?;
     let mut session = Session::default();
     if output.json {
@@ -342,7 +350,7 @@ fn view_json(
     updates: u64,
     rate: f64,
 ) -> String {
-    let wheels = json::array(WHEELS.map(|wheel| {
+    let wheels = json::array(line.pc.pairs().wheels().map(|wheel| {
         // `calibrated` false: a position on a pot scale that is not the wheel's, not degrees
         // (see `Pc::calibrated`).
         let motor = |m: Motor| {
@@ -545,10 +553,16 @@ mod tests {
 
     /// The plan of a script `t.rover` holding `source`.
     fn plan(source: &str) -> Plan {
-        let lines = script::parse("t.rover", source).unwrap();
+        plan_for(source, Pairs::ALL)
+    }
+
+    /// The same, for a rover with `pairs` fitted.
+    fn plan_for(source: &str, pairs: Pairs) -> Plan {
+        let lines = script::parse_for("t.rover", source, pairs).unwrap();
         Plan {
             path: "t.rover".into(),
             lines,
+            pairs,
         }
     }
 
@@ -565,7 +579,11 @@ mod tests {
 
     /// Runs `source` as `t.rover` against a fake port answering `replies`.
     fn run_script(source: &str, replies: &[Vec<u8>], json: bool) -> Ran {
-        let plan = plan(source);
+        run_plan(&plan(source), replies, json)
+    }
+
+    /// Runs `plan` against a fake port answering `replies`.
+    fn run_plan(plan: &Plan, replies: &[Vec<u8>], json: bool) -> Ran {
         let mut port = FakePort::with_replies(replies);
         let mut link = Link::ready(&mut port);
         let mut clock = FakeClock(Duration::ZERO, Vec::new());
@@ -575,7 +593,7 @@ mod tests {
             in_place: false,
             json,
         };
-        let result = run(&plan, &mut link, &mut clock, &mut output);
+        let result = run(plan, &mut link, &mut clock, &mut output);
         Ran {
             result,
             hex: port.frames_hex(),
@@ -744,6 +762,74 @@ mod tests {
             "{}",
             ran.text
         );
+    }
+
+    #[test]
+    fn a_rover_with_the_front_pair_alone_is_driven_and_polled_on_it_alone() {
+        let pairs = Pairs::parse("0").unwrap();
+        let plan = plan_for(
+            "reset\ncalibrate\ndrive all 100\nturn 10\nwait 0.01\n",
+            pairs,
+        );
+        // init(): set 0 via 1 and 2, set 1 via 3, set 2 via the master; then 4 resets, 10
+        // calibration frames (2 wheels), 2 drives, 2 steers; then update()s of 4 reads.
+        let mut replies: Vec<Vec<u8>> = vec![vec![20], vec![20], vec![18], vec![12]];
+        replies.extend(std::iter::repeat_n(vec![0], 4 + 10 + 2 + 2));
+        for _ in 0..2 {
+            replies.extend([vec![0; 40], vec![0; 40], vec![0; 36], vec![0; 24]]);
+        }
+        let ran = run_plan(&plan, &replies, false);
+        ran.result.unwrap();
+        let devices: Vec<&str> = ran.hex.iter().map(|f| &f[3..4]).collect();
+        assert_eq!(
+            devices.concat(),
+            "1230".to_owned() + "1230" + "1113322233" + "12" + "12" + "1230" + "1230",
+            "{:#?}",
+            ran.hex
+        );
+        // Wheels 1 and 2 turn 10° (0x8665 on ±200); 3..6 get no frame.
+        assert_eq!(ran.hex[20], "06 12 01 1a 65 86");
+        let text = ran.text;
+        assert!(text.contains("\n2            100"), "{text}");
+        assert!(!text.contains("\n3 "), "{text}");
+        assert!(
+            text.contains("\nwheels 3, 4, 5, 6 not fitted (--pairs): not polled\n"),
+            "{text}"
+        );
+        let ran = run_plan(&plan, &replies, true);
+        assert!(
+            ran.text.contains("\"wheels\":[{\"wheel\":1,"),
+            "{}",
+            ran.text
+        );
+        assert!(!ran.text.contains("\"wheel\":3"), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_line_naming_a_pair_left_out_is_refused_before_anything_is_sent() {
+        let pairs = Pairs::parse("0,2").unwrap();
+        for (line, what) in [
+            ("drive 3 100", "wheel 3"),
+            ("write 4 reset 1", "controller 4"),
+            ("show 6 one_control", "controller 6"),
+        ] {
+            let err = script::parse_for("t.rover", line, pairs).unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!(
+                    "t.rover line 1 (`{line}`): {what} is on wheel pair 1 (wheels 3, 4; \
+                     controllers 4..6), which --pairs leaves out; add 1 to --pairs if it is fitted"
+                )
+            );
+        }
+        assert!(script::parse_for("t.rover", "drive 5 100\nwrite 9 reset 1", pairs).is_ok());
+        for bad in ["", "3", "0,,1", "one", "-1"] {
+            assert!(
+                matches!(Pairs::parse(bad), Err(HostError::BadPairs { .. })),
+                "{bad:?}"
+            );
+        }
+        assert_eq!(Pairs::parse("2, 0").unwrap().mask(), 0b101);
     }
 
     #[test]

@@ -29,7 +29,7 @@ use std::time::Duration;
 use shared::protocol::READ_SET_SIZE;
 use shared::regs::Register;
 
-use super::pc::{self, Motor, Op, Pc, WHEELS};
+use super::pc::{self, Motor, Op, Pairs, Pc, WHEELS};
 use super::write;
 use crate::error::HostError;
 use crate::resolve::{self, Target};
@@ -80,9 +80,15 @@ pub struct Line {
 /// The longest `wait` or `watch`: one hour.
 const MAX_SECONDS: f64 = 3600.0;
 
-/// Parses and checks a whole script; the first bad line is the error.
+/// Parses and checks a whole script for the whole rover; the first bad line is the error.
 pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
-    let mut pc = Pc::new();
+    parse_for(path, source, Pairs::ALL)
+}
+
+/// [`parse`] for a rover with only `pairs` fitted: `all`, `calibrate`, `reset`, `stop` and
+/// `turn` reach those, and a line naming another wheel or controller is refused.
+pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, HostError> {
+    let mut pc = Pc::with_pairs(pairs);
     let mut lines = Vec::new();
     // `show` lines so far: the next one takes the next of SHOW_SETS.
     let mut shows = 0;
@@ -217,9 +223,10 @@ fn number(word: &str) -> Result<f32, Why> {
         .ok_or_else(|| Why::Number(word.to_owned()))
 }
 
-fn wheels(word: &str, usage: &'static str) -> Result<Vec<u8>, Why> {
+/// `all` (the fitted wheels) or one wheel.
+fn wheels(word: &str, pairs: Pairs, usage: &'static str) -> Result<Vec<u8>, Why> {
     if word == "all" {
-        return Ok(WHEELS.collect());
+        return Ok(pairs.wheels().collect());
     }
     match word.parse::<u8>() {
         Ok(w) if WHEELS.contains(&w) => Ok(vec![w]),
@@ -250,7 +257,7 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
             .collect()
     };
     match words.as_slice() {
-        ["reset"] => Ok(ops(pc::reset_exceptions()?)),
+        ["reset"] => Ok(ops(pc::reset_exceptions_of(pc.pairs())?)),
         ["calibrate"] => Ok(ops(pc.calibrate()?)),
         ["stop"] => Ok(ops(pc.emergency_stop()?)),
         ["write", dev, reg, value] => {
@@ -259,6 +266,7 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
                 register: (*reg).to_owned(),
                 value: (*value).to_owned(),
             })?;
+            pc.pairs().check_device(plan.target.device)?;
             pc.note_write(plan.target.device, plan.reg.id, plan.raw, plan.value);
             Ok(vec![Action::Op(Op::Write(pc::Send {
                 device: plan.target.device,
@@ -272,6 +280,7 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
                 "at most four `show` lines (read sets 3..6): name more registers on one line",
             ))?;
             let target = resolve::device(dev)?;
+            pc.pairs().check_device(target.device)?;
             let regs = regs
                 .iter()
                 .map(|r| resolve::register(target, r))
@@ -281,15 +290,15 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
         ["show", ..] => Err(Why::Usage("show DEV REG [REG …]   (1 to 24 registers)")),
         ["drive", w, v] => {
             const U: &str = "drive W|all SPEED   (W = wheel 1..6, SPEED in ticks/s)";
-            set(pc, Motor::Drive, &wheels(w, U)?, number(v)?)
+            set(pc, Motor::Drive, &wheels(w, pc.pairs(), U)?, number(v)?)
         }
         ["steer", w, v] => {
             const U: &str = "steer W|all DEG   (W = wheel 1..6)";
-            set(pc, Motor::Steer, &wheels(w, U)?, number(v)?)
+            set(pc, Motor::Steer, &wheels(w, pc.pairs(), U)?, number(v)?)
         }
         ["lift", w, v] => {
             const U: &str = "lift W|all DEG   (W = wheel 1..6)";
-            set(pc, Motor::Lift, &wheels(w, U)?, number(v)?)
+            set(pc, Motor::Lift, &wheels(w, pc.pairs(), U)?, number(v)?)
         }
         ["drive" | "steer" | "lift", ..] => Err(Why::Usage(
             "drive|steer|lift W|all VALUE   (W = wheel 1..6)",
@@ -298,6 +307,9 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
             let v = number(v)?;
             let mut out = Vec::new();
             for (wheel, angle) in [(1, v), (2, v), (5, -v), (6, -v), (3, 0.0), (4, 0.0)] {
+                if !pc.pairs().has_wheel(wheel) {
+                    continue;
+                }
                 out.push(Action::Op(pc.set_required(wheel, Motor::Steer, angle)?));
             }
             Ok(out)
