@@ -42,6 +42,9 @@ fn is_banner(bytes: &[u8]) -> bool {
 /// A connected link to the master.
 pub struct Link<P: Port> {
     port: P,
+    /// REGMASTER_ERRORCOUNT as the last probe after a timeout read it: tells a link error
+    /// recorded since then from an older one (REGMASTER_LASTERROR keeps the last).
+    errors_seen: Option<u16>,
 }
 
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
@@ -79,12 +82,24 @@ impl<P: Port> Link<P> {
         }
         std::thread::sleep(settle);
         port.set_timeout(REPLY_TIMEOUT)?;
-        Ok(Self { port })
+        Ok(Self {
+            port,
+            errors_seen: None,
+        })
     }
 
     /// Wraps a port that is already past the banner (tests, reconnects).
     pub fn ready(port: P) -> Self {
-        Self { port }
+        Self {
+            port,
+            errors_seen: None,
+        }
+    }
+
+    /// REGMASTER_ERRORCOUNT as the last probe after a timeout read it (`None`: no probe
+    /// has been answered in this session).
+    pub fn errors_seen(&self) -> Option<u16> {
+        self.errors_seen
     }
 
     /// The underlying port.
@@ -209,10 +224,14 @@ impl<P: Port> Link<P> {
         // LASTERROR is one byte, ERRORCOUNT two (LSB first).
         let read = protocol::encode_read(0, SCRATCH_SET);
         match self.exchange(&read, 3, PROBE_TIMEOUT) {
-            Ok((reply, 3)) => MasterSays::Answered {
-                code: reply[0],
-                count: u16::from_le_bytes([reply[1], reply[2]]),
-            },
+            Ok((reply, 3)) => {
+                let count = u16::from_le_bytes([reply[1], reply[2]]);
+                self.errors_seen = Some(count);
+                MasterSays::Answered {
+                    code: reply[0],
+                    count,
+                }
+            }
             _ => MasterSays::Silent,
         }
     }

@@ -851,6 +851,47 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
 }
 
 #[test]
+fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
+    // Round 1: controller 6 off the bus (NoAnswer, count 1). Round 2: controller 3's reply
+    // is lost on the serial line; the master's last error is still that NoAnswer, count 1:
+    // an old error, so this is a timeout, not "no answer".
+    let replies: [&[u8]; 8] = [
+        &[0x01],
+        &[0x01, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x03, 0x00],
+        &[],
+        &[0x02],
+    ];
+    let mut replies = replies.to_vec();
+    replies.push(&[0x0c, 0x01, 0x00]);
+    let o = hostctl(
+        "watch --readset 1 --count 2 --interval-ms 0 TIMER",
+        &replies,
+    );
+    assert!(
+        matches!(o.result, Err(HostError::Timeout { device: 3, .. })),
+        "{:?}",
+        o.result
+    );
+    assert!(o.out.contains("\n6    no answer\n"), "{}", o.out);
+    assert!(!o.out.contains("round 2"), "{}", o.out);
+    // A new error of another kind (the request arrived truncated, code 8) is no "no answer".
+    let replies: [&[u8]; 4] = [&[0x01], &[], &[0x02], &[0x08, 0x01, 0x00]];
+    let o = hostctl(
+        "watch --readset 1 --count 1 --interval-ms 0 TIMER",
+        &replies,
+    );
+    assert!(
+        matches!(o.result, Err(HostError::Timeout { device: 3, .. })),
+        "{:?}",
+        o.result
+    );
+}
+
+#[test]
 fn a_watch_of_the_scratch_set_configures_it_again_after_a_silent_controller() {
     // The master's answer about the silent controller went through set 7, the watched one.
     let replies: [&[u8]; 6] = [

@@ -120,19 +120,28 @@ impl SetRead {
     }
 
     /// [`SetRead::run`] for a view that goes on when a controller drops off the bus:
-    /// `Ok(None)` when the master says the controller did not answer on I²C (the reply
-    /// stopped short and its last link error is NoAnswer). The controller is read again
-    /// next time, so one that comes back shows again. Any other failure is an error.
+    /// `Ok(None)` when the master says the controller did not answer on I²C: the reply
+    /// stopped short, the master's last link error is NoAnswer, and its error count has
+    /// changed since the last probe, so that error is this read's and not an older one (the
+    /// master does not record which device an error was for, but this read is the only
+    /// frame since). The controller is read again next time, so one that comes back shows
+    /// again. Any other failure is an error.
     pub fn run_or_silent<P: Port>(
         &self,
         link: &mut Link<P>,
     ) -> Result<Option<Vec<u16>>, HostError> {
+        let before = link.errors_seen();
         match self.run(link) {
             Ok(values) => Ok(Some(values)),
             Err(HostError::Timeout {
-                master: MasterSays::Answered { code, .. },
+                master: MasterSays::Answered { code, count },
                 ..
-            }) if self.target.device != 0 && code == LinkError::NoAnswer as u8 => Ok(None),
+            }) if self.target.device != 0
+                && code == LinkError::NoAnswer as u8
+                && before != Some(count) =>
+            {
+                Ok(None)
+            }
             Err(e) => Err(e),
         }
     }

@@ -725,10 +725,11 @@ mod tests {
         // Controller 4 (wheel 3's drive and steer) is off the bus in both updates: no reply,
         // and the master's last link error is code 12 (NoAnswer).
         let mut replies = configure_replies();
-        for _ in 0..2 {
+        for count in 1..=2 {
             for (i, reply) in update_replies().into_iter().enumerate() {
                 if i == 3 {
-                    replies.extend([vec![], vec![2], vec![0x0c, 0x01, 0x00]]);
+                    // The master's error count grows by one each time.
+                    replies.extend([vec![], vec![2], vec![0x0c, count, 0x00]]);
                 } else {
                     replies.push(reply);
                 }
