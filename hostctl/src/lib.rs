@@ -174,8 +174,9 @@ pub fn run_with<P: Port>(
         )
     })();
     // A program reading the JSON lines learns of the failure there too, not only on stderr.
+    // A failure to print it (stdout gone) must not hide the error itself.
     if let (true, Err(e)) = (style.json, &result) {
-        writeln!(out, "{}", error_json(&cli.command, e))?;
+        let _ = writeln!(out, "{}", error_json(&cli.command, e));
     }
     result
 }
@@ -187,9 +188,11 @@ fn error_json(command: &Command, error: &HostError) -> String {
         .str("command", command.name())
         .str("error", &error.to_string());
     match error {
-        HostError::ScriptStep { line, text, .. } => object
-            .int("line", i64::try_from(*line).unwrap_or(i64::MAX))
-            .str("text", text),
+        HostError::ScriptStep { line, text, .. } | HostError::ScriptLine { line, text, .. } => {
+            object
+                .int("line", i64::try_from(*line).unwrap_or(i64::MAX))
+                .str("text", text)
+        }
         _ => object,
     }
     .finish()

@@ -1019,6 +1019,20 @@ fn with_json_a_failure_is_a_json_line_too() {
         "start, say, echo, error: {}",
         o.out
     );
+    // A line refused while the script is checked: nothing sent, its line and text too.
+    let path = std::env::temp_dir().join(format!("hostctl-jbad-{}.rover", std::process::id()));
+    std::fs::write(&path, "say Go\ndrive 7 10\n").unwrap();
+    let o = hostctl::<&[u8]>(&format!("--json run {}", path.display()), &[]);
+    std::fs::remove_file(&path).unwrap();
+    assert!(!o.opened);
+    let e = o.result.unwrap_err().to_string();
+    assert_eq!(
+        o.out,
+        format!(
+            "{{\"command\":\"run\",\"error\":{},\"line\":2,\"text\":\"drive 7 10\"}}\n",
+            crate::json::string(&e)
+        )
+    );
 }
 
 // ---- bad input: refused before the port is opened ----

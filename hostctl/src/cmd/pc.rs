@@ -90,7 +90,8 @@ impl Pairs {
     }
 }
 
-/// REG_RESET's bit that reboots the board through its watchdog (reference §6.2).
+/// REG_RESET's bit 1 (value 2), which reboots the board through its watchdog
+/// (reference §6.2).
 const HARD_RESET: u16 = 2;
 
 /// One of a wheel's motors.
@@ -411,7 +412,8 @@ impl Pc {
     }
 
     /// Keeps track of the pot calibrations on the boards: a CALIBMIN or CALIBMAX write
-    /// sets one end; REG_RESET with bit 2 reboots the board, back to its power-up ends.
+    /// sets one end; REG_RESET with bit 1 set (value 2, [`HARD_RESET`]) reboots the board,
+    /// back to its power-up ends. Bit 0 (clear) and bit 2 (odometer) leave them.
     fn note_board_write(&mut self, device: u8, reg: u8, raw: u16) {
         for wheel in WHEELS {
             for motor in [Motor::Steer, Motor::Lift] {
@@ -846,6 +848,18 @@ mod tests {
         assert!(!pc.calibrated(1, Motor::Steer));
         pc.note_write(1, max.id, mapping::map(66.0, max), 66.0);
         assert!(pc.calibrated(1, Motor::Steer));
+        // REG_RESET 4 zeroes the odometer only.
+        pc.note_write(1, id::REG_RESET, 4, 4.0);
+        assert!(pc.calibrated(1, Motor::Steer));
+        // Wheel 6's lift is TWO on controller 9 (ids + 18): its CALIBMAX, not ONE's.
+        let two_max = BoardKind::LiftLift
+            .register(id::REGLL_ONE_CALIBMAX + 18)
+            .unwrap();
+        pc.note_write(9, two_max.id, mapping::map(90.0, two_max), 90.0);
+        assert_eq!(
+            on_wheels(&pc, Motor::Lift),
+            [true, true, false, false, true, false]
+        );
     }
 
     #[test]

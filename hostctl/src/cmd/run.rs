@@ -13,7 +13,13 @@
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
 //! `updates`, `rate`, `wheels` with required (null: none sent this session), actual and
 //! calibrated per motor and the wheel's exceptions in words (null: none),
-//! `master_exception` and `master`, the text view's master line).
+//! `master_exception`, `no_answer` (the controllers that did not answer), `master` (the
+//! text view's master line) and, after `show` lines, `shown` (per set, `device` and its
+//! `values`: null when the controller did not answer). A failure ends the output with
+//! `error` (see [`crate::run_with`]).
+//!
+//! `--pairs` names the wheel pairs fitted, as the library's init() mask (see
+//! [`super::pc::Pairs`]).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -718,6 +724,30 @@ mod tests {
                 ran.text
             );
         }
+    }
+
+    #[test]
+    fn a_shown_angle_brings_its_legend_when_the_view_has_none() {
+        // Every wheel calibrated but wheel 1's steer (its CALIBMAX written to 70°), and
+        // controller 1 misses update()'s read: the view has no position to mark, so no
+        // legend. It answers the `show` read: that angle is marked and explained.
+        let mut replies = configure_replies();
+        replies.push(vec![1]);
+        replies.extend(std::iter::repeat_n(vec![0], 31));
+        let mut update = update_replies();
+        update.remove(0);
+        replies.extend([vec![], vec![2], vec![0x0c, 0x01, 0x00]]);
+        replies.extend(update);
+        replies.push(vec![0x00, 0x80]);
+        let source = "show 1 steer_actualpos\ncalibrate\nwrite 1 steer_calibmax 70\nwait 0\n";
+        let ran = run_script(source, &replies, false);
+        ran.result.unwrap();
+        let text = ran.text;
+        assert!(
+            text.contains("\ndevice 1: STEER_ACTUALPOS 0.006 deg*\n"),
+            "{text}"
+        );
+        assert_eq!(text.matches(NOT_DEGREES).count(), 1, "{text}");
     }
 
     #[test]
