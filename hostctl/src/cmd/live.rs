@@ -28,7 +28,7 @@ fn set_of(kind: BoardKind) -> u8 {
 /// The legend of a position marked `*`.
 pub const NOT_DEGREES: &str = "* not degrees: the board's pot calibration is not the wheel's (no \
 `calibrate` since the port opened; or since then a `stop`, which sends -100/100, a write to its \
-CALIBMIN or CALIBMAX, or a hard reset)";
+CALIBMIN or CALIBMAX, a hard reset, or a time it did not answer and may have rebooted)";
 
 /// update()'s reads, in its order: controllers 1..9, then the master.
 pub struct Poller {
@@ -152,19 +152,38 @@ pub struct Dropped {
     /// Per wheel and motor, how many demands it had been sent when its board was last
     /// seen in exception.
     at: [[Option<u32>; 3]; 6],
+    /// Per wheel and position motor, how many times each end of its calibration had been
+    /// written when its board last did not answer: it may have rebooted, back on its boot
+    /// calibration, until both ends are written again.
+    calibration_at: [[Option<[u32; 2]>; 3]; 6],
 }
 
 impl Dropped {
-    /// Notes every motor whose board `s` shows in exception.
+    /// Notes every motor whose board `s` shows in exception, and every position motor
+    /// whose board did not answer.
     pub fn note(&mut self, s: &Snapshot, pc: &Pc) {
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
-                if slave_exception(s, device_of(wheel, motor)).is_some() {
-                    self.at[usize::from(wheel - 1)][motor.index()] =
-                        Some(pc.demand_sends(wheel, motor));
+                let (w, m) = (usize::from(wheel - 1), motor.index());
+                let device = device_of(wheel, motor);
+                if slave_exception(s, device).is_some() {
+                    self.at[w][m] = Some(pc.demand_sends(wheel, motor));
+                }
+                if motor != Motor::Drive && s.silent.contains(&device) {
+                    self.calibration_at[w][m] = Some(pc.calibration_writes(wheel, motor));
                 }
             }
         }
+    }
+
+    /// Whether `motor` of `wheel` reads in degrees: `pc` has it calibrated
+    /// ([`Pc::calibrated`]), and both ends have been written again since its board last
+    /// failed to answer (a board that drops off may have rebooted).
+    pub fn calibrated(&self, pc: &Pc, wheel: u8, motor: Motor) -> bool {
+        let lost = self.calibration_at[usize::from(wheel - 1)][motor.index()];
+        let writes = pc.calibration_writes(wheel, motor);
+        pc.calibrated(wheel, motor)
+            && lost.is_none_or(|at| at.iter().zip(writes).all(|(&a, b)| a != b))
     }
 
     /// Whether `pc`'s demand of `motor` of `wheel` is one its board has dropped.
@@ -348,7 +367,7 @@ pub fn view_lines(
     let mut uncalibrated = false;
     let mut position = |v: Option<f32>, wheel: u8, motor: Motor| {
         let text = cell(v, 1);
-        if v.is_none() || pc.calibrated(wheel, motor) {
+        if v.is_none() || dropped.calibrated(pc, wheel, motor) {
             text
         } else {
             uncalibrated = true;
@@ -567,6 +586,39 @@ mod tests {
     }
 
     #[test]
+    fn a_board_that_did_not_answer_is_not_taken_as_calibrated_until_both_ends_are_sent_again() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        let mut dropped = Dropped::default();
+        dropped.note(&snapshot(), &pc);
+        assert!(dropped.calibrated(&pc, 1, Motor::Steer));
+        // Controller 1 (wheel 1's drive and steer) misses an update: it may have rebooted.
+        let silent = Snapshot {
+            silent: vec![1],
+            ..snapshot()
+        };
+        dropped.note(&silent, &pc);
+        assert!(!dropped.calibrated(&pc, 1, Motor::Steer));
+        assert!(
+            dropped.calibrated(&pc, 1, Motor::Drive),
+            "a speed has no pot"
+        );
+        assert!(
+            dropped.calibrated(&pc, 1, Motor::Lift),
+            "controller 3 answered"
+        );
+        assert!(dropped.calibrated(&pc, 2, Motor::Steer));
+        // One end written again is not enough; both are.
+        let min = BoardKind::DriveSteer
+            .register(id::REGDS_STEER_CALIBMIN)
+            .unwrap();
+        pc.note_write(1, min.id, mapping::map(-56.0, min), -56.0);
+        assert!(!dropped.calibrated(&pc, 1, Motor::Steer));
+        pc.calibrate().unwrap();
+        assert!(dropped.calibrated(&pc, 1, Motor::Steer));
+    }
+
+    #[test]
     fn positions_off_the_wheels_calibration_are_marked() {
         let mut pc = Pc::new();
         let lines = view(&pc, &Dropped::default());
@@ -576,7 +628,8 @@ mod tests {
         );
         let legend = "* not degrees: the board's pot calibration is not the wheel's (no \
                       `calibrate` since the port opened; or since then a `stop`, which sends \
-                      -100/100, a write to its CALIBMIN or CALIBMAX, or a hard reset)";
+                      -100/100, a write to its CALIBMIN or CALIBMAX, a hard reset, or a time \
+                      it did not answer and may have rebooted)";
         assert_eq!(lines[8], legend);
         pc.calibrate().unwrap();
         let lines = view(&pc, &Dropped::default());

@@ -286,6 +286,9 @@ pub struct Pc {
     /// CALIBMAX as this session's writes left them (`None`: the board's power-up value, as
     /// opening the port rebooted it, or after a hard reset).
     on_board: [[[Option<u16>; 2]; 3]; 6],
+    /// How many times each end of each calibration has been written: tells a calibration
+    /// written again from one a board may have lost.
+    calib_writes: [[[u32; 2]; 3]; 6],
     /// The pairs fitted: the library's calls reach only these.
     pairs: Pairs,
 }
@@ -340,6 +343,7 @@ impl Pc {
             demands: [[None; 3]; 6],
             sends: [[0; 3]; 6],
             on_board: [[[None; 2]; 3]; 6],
+            calib_writes: [[[0; 2]; 3]; 6],
         }
     }
 
@@ -381,6 +385,12 @@ impl Pc {
             })
     }
 
+    /// How many times each end (CALIBMIN, CALIBMAX) of `motor` of `wheel` has been
+    /// written in this session.
+    pub fn calibration_writes(&self, wheel: u8, motor: Motor) -> [u32; 2] {
+        self.calib_writes[usize::from(wheel - 1)][motor.index()]
+    }
+
     /// How many demands `motor` of `wheel` has been sent in this session.
     pub fn demand_sends(&self, wheel: u8, motor: Motor) -> u32 {
         self.sends[usize::from(wheel - 1)][motor.index()]
@@ -420,14 +430,15 @@ impl Pc {
                 if device_of(wheel, motor) != device {
                     continue;
                 }
-                let held = &mut self.on_board[usize::from(wheel - 1)][motor.index()];
+                let (w, m) = (usize::from(wheel - 1), motor.index());
                 if reg == id::REG_RESET && raw & HARD_RESET != 0 {
-                    *held = [None; 2];
+                    self.on_board[w][m] = [None; 2];
                 }
                 if let Some(end) = calib_registers(wheel, motor)
                     .and_then(|regs| regs.iter().position(|&r| r == reg))
                 {
-                    held[end] = Some(raw);
+                    self.on_board[w][m][end] = Some(raw);
+                    self.calib_writes[w][m][end] = self.calib_writes[w][m][end].wrapping_add(1);
                 }
             }
         }

@@ -255,17 +255,23 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
 
 /// Whether `reg` of `device` is an angle on a pot calibration that is not its wheel's (see
 /// [`Pc::calibrated`]); `None` when it is no such angle.
-fn off_calibration(pc: &Pc, device: u8, reg: &Register) -> Option<bool> {
+fn off_calibration(pc: &Pc, dropped: &Dropped, device: u8, reg: &Register) -> Option<bool> {
     if !fresh::on_calibrated_scale(reg) {
         return None;
     }
     let (wheel, motor) = pc::position_motor(device, reg)?;
-    Some(!pc.calibrated(wheel, motor))
+    Some(!dropped.calibrated(pc, wheel, motor))
 }
 
 /// The `show` values as text: a line per set, angles off the wheel's calibration marked
 /// `*` as in the view, with the legend after them when the view has not given it.
-fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<String> {
+fn shown_lines(
+    shown: &Shown,
+    s: &Snapshot,
+    pc: &Pc,
+    dropped: &Dropped,
+    view: &[String],
+) -> Vec<String> {
     let mut marked = false;
     let mut lines: Vec<String> = shown
         .iter()
@@ -279,7 +285,7 @@ fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<Str
                     if s.no_reading(*device, reg.id) {
                         return format!("{} - (no reading)", reg.short_name());
                     }
-                    let mark = if off_calibration(pc, *device, reg) == Some(true) {
+                    let mark = if off_calibration(pc, dropped, *device, reg) == Some(true) {
                         marked = true;
                         "*"
                     } else {
@@ -304,7 +310,7 @@ fn shown_lines(shown: &Shown, s: &Snapshot, pc: &Pc, view: &[String]) -> Vec<Str
 
 /// The `show` values as a JSON array (`value` null for no reading; `calibrated` for an
 /// angle through a pot calibration, false when it is not the wheel's).
-fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc) -> String {
+fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String {
     json::array(shown.iter().map(|(device, values)| {
         let Some(values) = values else {
             return json::Object::new()
@@ -322,7 +328,7 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc) -> String {
                 object.num("value", mapping::unmap(raw, reg))
             }
             .str("unit", reg.unit);
-            match off_calibration(pc, *device, reg) {
+            match off_calibration(pc, dropped, *device, reg) {
                 Some(off) => object.raw("calibrated", if off { "false" } else { "true" }),
                 None => object,
             }
@@ -360,7 +366,7 @@ fn view_json(
         // `calibrated` false: a position on a pot scale that is not the wheel's, not degrees
         // (see `Pc::calibrated`).
         let motor = |m: Motor| {
-            let calibrated = if line.pc.calibrated(wheel, m) {
+            let calibrated = if dropped.calibrated(&line.pc, wheel, m) {
                 "true"
             } else {
                 "false"
@@ -408,7 +414,8 @@ fn view_json(
     if shown.is_empty() {
         view.finish()
     } else {
-        view.raw("shown", &shown_json(shown, s, &line.pc)).finish()
+        view.raw("shown", &shown_json(shown, s, &line.pc, dropped))
+            .finish()
     }
 }
 
@@ -491,7 +498,7 @@ fn live<P: Port>(
             let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
             let dropped = &session.dropped;
             let mut lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
-            let shown_text = shown_lines(&shown, &snapshot, &line.pc, &lines);
+            let shown_text = shown_lines(&shown, &snapshot, &line.pc, dropped, &lines);
             lines.extend(shown_text);
             let text = if output.json {
                 let mut t = view_json(&snapshot, line, dropped, &shown, elapsed, updates, rate);

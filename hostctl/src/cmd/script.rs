@@ -136,14 +136,14 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> &str {
         l.text.split_whitespace().next().unwrap_or("")
     }
+    let mut notes = hard_reset_notes(lines);
     let Some(demand) = lines
         .iter()
         .find(|l| matches!(first_word(l), "drive" | "steer" | "turn" | "lift"))
     else {
-        return Vec::new();
+        return notes;
     };
     let has = |word: &str| lines.iter().any(|l| first_word(l) == word);
-    let mut notes = Vec::new();
     match lines.iter().find(|l| first_word(l) == "reset") {
         None => notes.push(format!(
             "line {} sends a demand, but no line is `reset`: after the port opens every board \
@@ -164,6 +164,34 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
              nothing will move",
             demand.number
         ));
+    }
+    notes
+}
+
+/// A hard reset (REG_RESET with bit 1, value 2) not followed by a `wait` or `watch`: the
+/// board reboots 16 ms after it, so writes sent at once may be acknowledged and then lost,
+/// and on the real rover a slave takes up to 5 s to come back (the master waits as long
+/// after its own boot).
+fn hard_reset_notes(lines: &[Line]) -> Vec<String> {
+    let mut notes = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let hard = line.actions.iter().any(|a| match a {
+            // A one-write frame: length, address, count 1, id, value.
+            Action::Op(Op::Write(w)) => {
+                w.what == "REG_RESET" && w.frame.get(4).is_some_and(|v| v & 2 != 0)
+            }
+            _ => false,
+        });
+        let waits = lines.get(i + 1).is_some_and(|next| {
+            matches!(next.actions.as_slice(), [Action::Live { time, .. }] if time.as_secs() >= 5)
+        });
+        if hard && !waits && i + 1 < lines.len() {
+            notes.push(format!(
+                "line {} hard-resets a board: it reboots, and writes sent to it before it is \
+                 back may be lost; put `wait 5` after it",
+                line.number
+            ));
+        }
     }
     notes
 }
@@ -389,6 +417,22 @@ mod tests {
     #[test]
     fn a_script_that_cannot_move_anything_is_noted() {
         let notes = |src: &str| notes(&parse("s", src).unwrap());
+        assert_eq!(
+            notes("write 1 reset 2\ncalibrate"),
+            [
+                "line 1 hard-resets a board: it reboots, and writes sent to it before it is \
+              back may be lost; put `wait 5` after it"
+            ]
+        );
+        assert!(notes("write 1 reset 2\nwait 5\ncalibrate").is_empty());
+        assert!(
+            notes("write 1 reset 1\ncalibrate").is_empty(),
+            "a clear only"
+        );
+        assert!(
+            notes("calibrate\nwrite 1 reset 2").is_empty(),
+            "nothing after it"
+        );
         assert_eq!(
             notes("say go\ndrive all 1000\nwait 2"),
             [
