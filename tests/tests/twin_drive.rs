@@ -165,22 +165,16 @@ fn row_after(text: &str, marker: &str, wheel: u8) -> Vec<f64> {
         .collect()
 }
 
-#[test]
-fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
-    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/demo.rover");
-    let plan = run::plan(&run::Args {
-        file,
-        pairs: "0,1,2".into(),
-    })
-    .unwrap();
-    let twin = Rc::new(RefCell::new(rover()));
-    let port = EmuPort::new(Rc::clone(&twin));
+/// Runs `plan` with hostctl's `run` code on `twin`, as the binary does after opening its
+/// port; returns what it printed (also echoed) and the clock, at the script's end.
+fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan) -> (String, EmuClock) {
+    let port = EmuPort::new(Rc::clone(twin));
     let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
-    let mut clock = EmuClock::new(Rc::clone(&twin));
+    let mut clock = EmuClock::new(Rc::clone(twin));
     clock.sleep(hostctl::link::SETTLE);
     let mut out = Vec::new();
     let result = run::run(
-        &plan,
+        plan,
         &mut link,
         &mut clock,
         &mut Output {
@@ -192,6 +186,19 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
     let text = String::from_utf8(out).unwrap();
     println!("{text}");
     result.unwrap();
+    (text, clock)
+}
+
+#[test]
+fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/demo.rover");
+    let plan = run::plan(&run::Args {
+        file,
+        pairs: "0,1,2".into(),
+    })
+    .unwrap();
+    let twin = Rc::new(RefCell::new(rover()));
+    let (text, clock) = run_on(&twin, &plan);
     println!(
         "demo: {:.1} s of emulated time, twin speed {:.2}x real time",
         clock.now().as_secs_f64(),
@@ -241,24 +248,7 @@ fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
     for n in 4..=9 {
         twin.borrow_mut().cut(n).unwrap();
     }
-    let port = EmuPort::new(Rc::clone(&twin));
-    let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
-    let mut clock = EmuClock::new(Rc::clone(&twin));
-    clock.sleep(hostctl::link::SETTLE);
-    let mut out = Vec::new();
-    let result = run::run(
-        &plan,
-        &mut link,
-        &mut clock,
-        &mut Output {
-            out: &mut out,
-            in_place: false,
-            json: false,
-        },
-    );
-    let text = String::from_utf8(out).unwrap();
-    println!("{text}");
-    result.unwrap();
+    let (text, _) = run_on(&twin, &plan);
     // The last view: wheels 1 and 2 at 1000, no row for the others, no exception (the
     // master counts controllers that never answered as absent, not silent).
     let tail = &text[text.rfind("> watch 6").unwrap()..];
