@@ -32,6 +32,17 @@ fn driving() -> Session {
     s
 }
 
+/// [`driving`], on past 5.5 s after the master's boot: the master watches the slaves from
+/// 5 s on (reference §5).
+fn watched_while_driving() -> Session {
+    let mut s = driving();
+    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
+    if boot_settle > 0.0 {
+        s.pass(boot_settle);
+    }
+    s
+}
+
 /// Every wheel's physical drive speed, ticks/s.
 fn physical_speeds(s: &Session) -> Vec<f64> {
     let twin = s.twin.borrow();
@@ -79,12 +90,7 @@ fn a_stalled_wheel_raises_its_fault_on_the_master_and_every_motor_stops() {
 
 #[test]
 fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
-    let mut s = driving();
-    // The master watches the slaves from 5 s after its boot on (reference §5).
-    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
-    if boot_settle > 0.0 {
-        s.pass(boot_settle);
-    }
+    let mut s = watched_while_driving();
     // Read only the master's set 2 (hostctl's: the library's eleven registers and
     // REGMASTER_TEMPSREAD, 24 bytes, ~2 ms): controller 5 no longer answers, so a full
     // update() would time out on it.
@@ -163,11 +169,7 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
 
 #[test]
 fn update_goes_on_past_a_controller_cut_off_the_bus_and_sees_it_come_back() {
-    let mut s = driving();
-    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
-    if boot_settle > 0.0 {
-        s.pass(boot_settle);
-    }
+    let mut s = watched_while_driving();
     s.twin.borrow_mut().cut(5).unwrap();
     // hostctl's update(): controller 5's read times out, the master names NoAnswer, and the
     // other nine reads go on.
@@ -347,12 +349,7 @@ fn every_motor_stopped(s: &Session) -> bool {
 
 #[test]
 fn from_a_slave_fault_to_every_motor_stopped() {
-    let mut s = driving();
-    // The master watches the slaves from 5 s after its boot on (reference §5).
-    let boot_settle = 5.5 - s.clock_now().as_secs_f64();
-    if boot_settle > 0.0 {
-        s.pass(boot_settle);
-    }
+    let mut s = watched_while_driving();
     assert!(!every_motor_stopped(&s), "the drives are running");
     let chip_2_stopped = |s: &Session| {
         let mut twin = s.twin.borrow_mut();
