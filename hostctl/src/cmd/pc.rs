@@ -69,30 +69,36 @@ impl Pairs {
 
     /// `Ok` when `wheel` is fitted, else the error naming its pair.
     pub fn check_wheel(self, wheel: u8) -> Result<(), HostError> {
-        if self.has_wheel(wheel) {
-            return Ok(());
-        }
-        Err(HostError::PairLeftOut {
-            what: format!("wheel {wheel}"),
-            pair: (wheel.clamp(1, 6) - 1) / 2,
-        })
+        Self::fitted(
+            self.has_wheel(wheel),
+            format!("wheel {wheel}"),
+            (wheel.clamp(1, 6) - 1) / 2,
+        )
     }
 
     /// `Ok` when `device` is there, else the error naming its pair.
     pub fn check_device(self, device: u8) -> Result<(), HostError> {
-        if self.has_device(device) {
-            return Ok(());
+        let pair = (device.clamp(1, 9) - 1) / 3;
+        Self::fitted(
+            self.has_device(device),
+            format!("controller {device}"),
+            pair,
+        )
+    }
+
+    /// `Ok` when `fitted`, else the error saying that `what` is on `pair`, left out.
+    fn fitted(fitted: bool, what: String, pair: u8) -> Result<(), HostError> {
+        if fitted {
+            Ok(())
+        } else {
+            Err(HostError::PairLeftOut { what, pair })
         }
-        Err(HostError::PairLeftOut {
-            what: format!("controller {device}"),
-            pair: (device.clamp(1, 9) - 1) / 3,
-        })
     }
 }
 
 /// REG_RESET's bit 1 (value 2), which reboots the board through its watchdog
 /// (reference §6.2).
-const HARD_RESET: u16 = 2;
+pub(crate) const HARD_RESET: u16 = 2;
 
 /// One of a wheel's motors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

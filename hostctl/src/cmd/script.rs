@@ -178,7 +178,10 @@ fn hard_reset_notes(lines: &[Line]) -> Vec<String> {
         let hard = line.actions.iter().any(|a| match a {
             // A one-write frame: length, address, count 1, id, value.
             Action::Op(Op::Write(w)) => {
-                w.what == "REG_RESET" && w.frame.get(4).is_some_and(|v| v & 2 != 0)
+                w.what == "REG_RESET"
+                    && w.frame
+                        .get(4)
+                        .is_some_and(|&v| u16::from(v) & pc::HARD_RESET != 0)
             }
             _ => false,
         });
