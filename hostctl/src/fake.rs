@@ -20,6 +20,8 @@ pub struct FakePort {
     pub written: Vec<u8>,
     /// Every timeout set, in order.
     pub timeouts: Vec<Duration>,
+    /// Per frame, the first timeout set after it: how long its reply was waited for.
+    pub reply_timeouts: Vec<Duration>,
 }
 
 impl FakePort {
@@ -105,6 +107,9 @@ impl Write for FakePort {
 impl Port for FakePort {
     fn set_timeout(&mut self, timeout: Duration) -> io::Result<()> {
         self.timeouts.push(timeout);
+        if self.reply_timeouts.len() < self.frames.len() {
+            self.reply_timeouts.push(timeout);
+        }
         Ok(())
     }
 }

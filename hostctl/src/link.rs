@@ -21,6 +21,12 @@ pub const REPLY_TIMEOUT: Duration = Duration::from_secs(1);
 /// read of its own registers in a few ms, so a short wait keeps the failure quick.
 pub const PROBE_TIMEOUT: Duration = Duration::from_millis(300);
 
+/// How long a read of a controller that did not answer its last read waits for the reply:
+/// as long as the probe. The master relays a reply as its I²C bytes come (the first within
+/// a few ms), so a controller back on the bus is seen in this time, and one still off it
+/// costs a view this, not the full [`REPLY_TIMEOUT`], each round.
+pub const SILENT_REREAD_TIMEOUT: Duration = PROBE_TIMEOUT;
+
 /// How long to wait for stray bytes of a late reply before the probe, so they are not
 /// taken for its answer.
 pub const DRAIN_TIMEOUT: Duration = Duration::from_millis(50);
@@ -45,6 +51,9 @@ pub struct Link<P: Port> {
     /// REGMASTER_ERRORCOUNT as the last probe after a timeout read it: tells a link error
     /// recorded since then from an older one (REGMASTER_LASTERROR keeps the last).
     errors_seen: Option<u16>,
+    /// A bit per device (0..15) whose last read the master could not relay because the
+    /// controller did not answer on I²C ([`Link::note_silent`]).
+    silent: u16,
 }
 
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
@@ -85,6 +94,7 @@ impl<P: Port> Link<P> {
         Ok(Self {
             port,
             errors_seen: None,
+            silent: 0,
         })
     }
 
@@ -93,6 +103,7 @@ impl<P: Port> Link<P> {
         Self {
             port,
             errors_seen: None,
+            silent: 0,
         }
     }
 
@@ -100,6 +111,32 @@ impl<P: Port> Link<P> {
     /// has been answered in this session).
     pub fn errors_seen(&self) -> Option<u16> {
         self.errors_seen
+    }
+
+    /// Whether `device`'s last read was one its controller did not answer.
+    pub fn was_silent(&self, device: u8) -> bool {
+        self.silent & (1 << (device & 15)) != 0
+    }
+
+    /// Notes whether `device` answered its last read: a read of one that did not waits
+    /// [`SILENT_REREAD_TIMEOUT`] ([`Link::reply_timeout`]).
+    pub fn note_silent(&mut self, device: u8, silent: bool) {
+        let bit = 1 << (device & 15);
+        if silent {
+            self.silent |= bit;
+        } else {
+            self.silent &= !bit;
+        }
+    }
+
+    /// How long a read of `device` waits for its reply: [`REPLY_TIMEOUT`], or
+    /// [`SILENT_REREAD_TIMEOUT`] after a read it did not answer.
+    pub fn reply_timeout(&self, device: u8) -> Duration {
+        if self.was_silent(device) {
+            SILENT_REREAD_TIMEOUT
+        } else {
+            REPLY_TIMEOUT
+        }
     }
 
     /// The underlying port.
@@ -120,10 +157,21 @@ impl<P: Port> Link<P> {
         frame: &[u8],
         reply_len: usize,
     ) -> Result<Vec<u8>, HostError> {
+        self.transact_within(device, frame, reply_len, REPLY_TIMEOUT)
+    }
+
+    /// [`Link::transact`], waiting at most `timeout` for each part of the reply.
+    pub fn transact_within(
+        &mut self,
+        device: u8,
+        frame: &[u8],
+        reply_len: usize,
+        timeout: Duration,
+    ) -> Result<Vec<u8>, HostError> {
         if is_banner(&self.stray()?) {
             return Err(HostError::MasterRebooted);
         }
-        let (reply, got) = self.exchange(frame, reply_len, REPLY_TIMEOUT)?;
+        let (reply, got) = self.exchange(frame, reply_len, timeout)?;
         if got < reply_len {
             if is_banner(&reply[..got]) {
                 return Err(HostError::MasterRebooted);

@@ -824,7 +824,7 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
     );
     let legend = "no answer: controller 6 does not answer the master on the I2C bus (unplugged, \
                   unpowered or rebooting; the master stops every motor when one drops off); \
-                  read again every round, each after a 1 s wait";
+                  read again every round, each after a 300 ms wait";
     assert!(
         o.out.contains(&format!(
             "read set 1, round 1\n\
@@ -888,6 +888,85 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
         "watch --readset 1 --count 1 --interval-ms 0 TIMER",
         &replies,
     ));
+}
+
+#[test]
+fn a_controller_that_did_not_answer_is_read_again_with_the_short_wait() {
+    use crate::link::{PROBE_TIMEOUT, REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT};
+    // Controller 6 is off the bus in rounds 1 and 2 (NoAnswer, counts 1 and 2) and back
+    // in round 3.
+    let replies: [&[u8]; 17] = [
+        &[0x01],
+        &[0x01, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x03, 0x00],
+        &[0x04, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x02, 0x00],
+        &[0x05, 0x00],
+        &[0x06, 0x00],
+        &[0x07, 0x00],
+        &[0x08, 0x00],
+        &[0x09, 0x00],
+        &[0x0a, 0x00],
+        &[0x0b, 0x00],
+    ];
+    let o = hostctl(
+        "watch --readset 1 --count 4 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    let (r, s, p) = (REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT, PROBE_TIMEOUT);
+    assert!(s < r);
+    assert_eq!(
+        o.port.reply_timeouts,
+        [
+            r, // configure
+            r, r, p, p, r, // round 1: 6 is found silent after the full wait
+            r, s, p, p, r, // round 2: the short wait for 6, still silent
+            r, s, r, // round 3: the short wait, and 6 answers
+            r, r, r // round 4: 6 answered last time
+        ]
+    );
+    assert_eq!(o.port.frames.len(), 17);
+    assert_eq!(o.out.matches("\n6    no answer\n").count(), 2, "{}", o.out);
+    assert!(o.out.contains("\n6        7\n"), "{}", o.out);
+    assert!(o.out.contains("\n6       10\n"), "{}", o.out);
+}
+
+#[test]
+fn a_short_wait_that_fails_otherwise_is_read_again_with_the_full_wait() {
+    use crate::link::{PROBE_TIMEOUT, REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT};
+    // Round 1: controller 6 off the bus (NoAnswer, count 1). Round 2: its reply does not
+    // come within the short wait, but the master records no new error (count still 1):
+    // the reply may just be slow, so 6 is read again with the full wait, and answers.
+    let replies: [&[u8]; 12] = [
+        &[0x01],
+        &[0x01, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x03, 0x00],
+        &[0x04, 0x00],
+        &[],
+        &[0x02],
+        &[0x0c, 0x01, 0x00],
+        &[0x05, 0x00],
+        &[0x06, 0x00],
+    ];
+    let o = hostctl(
+        "watch --readset 1 --count 2 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    let (r, s, p) = (REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT, PROBE_TIMEOUT);
+    assert_eq!(o.port.reply_timeouts, [r, r, r, p, p, r, r, s, p, p, r, r]);
+    assert_eq!(o.port.frames_hex()[10], "03 63 01");
+    assert!(o.out.contains("\n6        5\n"), "{}", o.out);
+    assert_eq!(o.out.matches("no answer\n").count(), 1, "{}", o.out);
 }
 
 #[test]

@@ -107,7 +107,17 @@ impl SetRead {
 
     /// Sends the read and decodes the reply into raw values, in set order.
     pub fn run<P: Port>(&self, link: &mut Link<P>) -> Result<Vec<u16>, HostError> {
-        let reply = link.transact(self.target.device, &self.frame, self.reply_len)?;
+        self.run_within(link, crate::link::REPLY_TIMEOUT)
+    }
+
+    /// [`SetRead::run`], waiting at most `timeout` for each part of the reply.
+    fn run_within<P: Port>(
+        &self,
+        link: &mut Link<P>,
+        timeout: std::time::Duration,
+    ) -> Result<Vec<u16>, HostError> {
+        let reply =
+            link.transact_within(self.target.device, &self.frame, self.reply_len, timeout)?;
         let ids: Vec<u8> = self.regs.iter().map(|r| r.id).collect();
         let mut values: HVec<(u8, u16), { protocol::READ_SET_SIZE }> = HVec::new();
         protocol::decode_read_reply(self.target.kind, &ids, &reply, &mut values).map_err(
@@ -126,21 +136,33 @@ impl SetRead {
     /// master does not record which device an error was for, but this read is the only
     /// frame since). The controller is read again next time, so one that comes back shows
     /// again. Any other failure is an error.
+    ///
+    /// A controller that did not answer its last read is read with a shorter wait
+    /// ([`Link::reply_timeout`]), so that a view with one off the bus goes on at a few
+    /// rounds a second. If that shorter read fails for another cause than NoAnswer, the
+    /// reply may just have been slow: it is read once more with the full wait.
     pub fn run_or_silent<P: Port>(
         &self,
         link: &mut Link<P>,
     ) -> Result<Option<Vec<u16>>, HostError> {
+        let device = self.target.device;
         let before = link.errors_seen();
-        match self.run(link) {
-            Ok(values) => Ok(Some(values)),
+        let quick = link.was_silent(device);
+        match self.run_within(link, link.reply_timeout(device)) {
+            Ok(values) => {
+                link.note_silent(device, false);
+                Ok(Some(values))
+            }
             Err(HostError::Timeout {
                 master: MasterSays::Answered { code, count },
                 ..
-            }) if self.target.device != 0
-                && code == LinkError::NoAnswer as u8
-                && before != Some(count) =>
-            {
+            }) if device != 0 && code == LinkError::NoAnswer as u8 && before != Some(count) => {
+                link.note_silent(device, true);
                 Ok(None)
+            }
+            Err(HostError::Timeout { .. }) if quick => {
+                link.note_silent(device, false);
+                self.run_or_silent(link)
             }
             Err(e) => Err(e),
         }
@@ -158,8 +180,8 @@ pub fn no_answer_legend(devices: &[u8]) -> String {
     format!(
         "no answer: {who} {} {does} not answer the master on the I2C bus (unplugged, unpowered \
          or rebooting; the master stops every motor when one drops off); read again every \
-         round, each after a {} s wait",
+         round, each after a {} ms wait",
         list.join(", "),
-        crate::link::REPLY_TIMEOUT.as_secs()
+        crate::link::SILENT_REREAD_TIMEOUT.as_millis()
     )
 }
