@@ -28,7 +28,8 @@ fn set_of(kind: BoardKind) -> u8 {
 /// The legend of a position marked `*`.
 pub const NOT_DEGREES: &str = "* not degrees: the board's pot calibration is not the wheel's (no \
 `calibrate` since the port opened; or since then a `stop`, which sends -100/100, a write to its \
-CALIBMIN or CALIBMAX, a hard reset, or a time it did not answer and may have rebooted)";
+CALIBMIN or CALIBMAX, a hard reset, a reboot seen (back in its boot state after being out of \
+it), or a time it did not answer and may have rebooted)";
 
 /// update()'s reads, in its order: controllers 1..9, then the master.
 pub struct Poller {
@@ -156,12 +157,25 @@ pub struct Dropped {
     /// written when its board last did not answer: it may have rebooted, back on its boot
     /// calibration, until both ends are written again.
     calibration_at: [[Option<[u32; 2]>; 3]; 6],
+    /// Per controller 1..9 (index 0 unused), whether it was last seen in its boot state
+    /// (`None`: not read yet). A board seen out of it and then in it again has rebooted
+    /// (a watchdog or power reset: the boot state is never raised otherwise) and is back
+    /// on its boot calibration.
+    in_boot: [Option<bool>; 10],
 }
 
 impl Dropped {
     /// Notes every motor whose board `s` shows in exception, and every position motor
-    /// whose board did not answer.
+    /// whose board did not answer or is seen to have rebooted.
     pub fn note(&mut self, s: &Snapshot, pc: &Pc) {
+        let mut rebooted = [false; 10];
+        for (device, last) in self.in_boot.iter_mut().enumerate().skip(1) {
+            let Some(now) = in_boot(s, device as u8) else {
+                continue;
+            };
+            rebooted[device] = *last == Some(false) && now;
+            *last = Some(now);
+        }
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 let (w, m) = (usize::from(wheel - 1), motor.index());
@@ -169,7 +183,8 @@ impl Dropped {
                 if slave_exception(s, device).is_some() {
                     self.at[w][m] = Some(pc.demand_sends(wheel, motor));
                 }
-                if motor != Motor::Drive && s.silent.contains(&device) {
+                let lost = s.silent.contains(&device) || rebooted[usize::from(device)];
+                if motor != Motor::Drive && lost {
                     self.calibration_at[w][m] = Some(pc.calibration_writes(wheel, motor));
                 }
             }
@@ -178,7 +193,7 @@ impl Dropped {
 
     /// Whether `motor` of `wheel` reads in degrees: `pc` has it calibrated
     /// ([`Pc::calibrated`]), and both ends have been written again since its board last
-    /// failed to answer (a board that drops off may have rebooted).
+    /// failed to answer (a board that drops off may have rebooted) or was seen to reboot.
     pub fn calibrated(&self, pc: &Pc, wheel: u8, motor: Motor) -> bool {
         let lost = self.calibration_at[usize::from(wheel - 1)][motor.index()];
         let writes = pc.calibration_writes(wheel, motor);
@@ -212,6 +227,13 @@ fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
     }
     let data = s.raw(device, id::REG_EXCEPTIONDATA)?;
     Some(((data & 0xff) as u8, (data >> 8) as u8))
+}
+
+/// Whether `s` shows `device` in its boot state (in exception, type BOOT); `None` when
+/// `s` has no STATUS of it.
+fn in_boot(s: &Snapshot, device: u8) -> Option<bool> {
+    s.raw(device, id::REG_STATUS)?;
+    Some(slave_exception(s, device).is_some_and(|(code, _)| code == ExceptionType::Boot as u8))
 }
 
 /// Words for an exception type code.
@@ -619,6 +641,69 @@ mod tests {
     }
 
     #[test]
+    fn a_board_seen_back_in_its_boot_state_is_not_taken_as_calibrated() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        // `snapshot()` shows controller 4 (wheel 3's drive and steer) in its boot state and
+        // controller 1 (wheel 1's) out of exception.
+        let booting = |device: u8| {
+            let mut s = snapshot();
+            for (d, regs) in &mut s.rows {
+                if *d == device {
+                    for (reg, raw) in regs.iter_mut() {
+                        match *reg {
+                            id::REG_STATUS => *raw = 0x0009,
+                            id::REG_EXCEPTIONDATA => *raw = 0x0502,
+                            _ => {}
+                        }
+                    }
+                }
+            }
+            s
+        };
+        let mut dropped = Dropped::default();
+        dropped.note(&snapshot(), &pc);
+        // Seen in it from the first look: as after power-up, not a reboot.
+        assert!(dropped.calibrated(&pc, 3, Motor::Steer));
+        // Controller 1, out of exception, is next seen in its boot state: it rebooted.
+        dropped.note(&booting(1), &pc);
+        assert!(!dropped.calibrated(&pc, 1, Motor::Steer));
+        assert!(
+            dropped.calibrated(&pc, 3, Motor::Steer),
+            "still in boot: no change"
+        );
+        assert!(
+            dropped.calibrated(&pc, 1, Motor::Lift),
+            "controller 3 did not reboot"
+        );
+        // Staying in its boot state is no second reboot: calibrating again is enough.
+        dropped.note(&booting(1), &pc);
+        pc.calibrate().unwrap();
+        dropped.note(&booting(1), &pc);
+        assert!(dropped.calibrated(&pc, 1, Motor::Steer));
+        // A board in another exception (controller 2, wheel 2's drive and steer: type 5)
+        // that is then seen in its boot state rebooted too.
+        assert!(dropped.calibrated(&pc, 2, Motor::Steer));
+        dropped.note(&booting(2), &pc);
+        assert!(!dropped.calibrated(&pc, 2, Motor::Steer));
+        // A round in which a board is not read tells nothing.
+        let unread = Snapshot {
+            rows: snapshot()
+                .rows
+                .into_iter()
+                .filter(|(d, _)| *d != 5)
+                .collect(),
+            ..snapshot()
+        };
+        dropped.note(&unread, &pc);
+        dropped.note(&booting(5), &pc);
+        assert!(
+            !dropped.calibrated(&pc, 4, Motor::Steer),
+            "5 was last seen out of it"
+        );
+    }
+
+    #[test]
     fn positions_off_the_wheels_calibration_are_marked() {
         let mut pc = Pc::new();
         let lines = view(&pc, &Dropped::default());
@@ -628,7 +713,8 @@ mod tests {
         );
         let legend = "* not degrees: the board's pot calibration is not the wheel's (no \
                       `calibrate` since the port opened; or since then a `stop`, which sends \
-                      -100/100, a write to its CALIBMIN or CALIBMAX, a hard reset, or a time \
+                      -100/100, a write to its CALIBMIN or CALIBMAX, a hard reset, a \
+                      reboot seen (back in its boot state after being out of it), or a time \
                       it did not answer and may have rebooted)";
         assert_eq!(lines[8], legend);
         pc.calibrate().unwrap();
