@@ -261,12 +261,15 @@ pub enum HostError {
     },
 
     /// The master reported a failed write.
-    #[error("device {device} refused the write to {register}: code {code:#04x} ({words}); {}", refusal_advice(*device, *code))]
+    #[error("{}: code {code:#04x} ({words}); {}", refused_what(*device, register, *writes), refusal_advice(*device, *code))]
     WriteRefused {
         /// The device addressed.
         device: u8,
-        /// The register written.
+        /// The register written, or what the frame's writes are (a parameter block).
         register: &'static str,
+        /// How many register writes the frame held: the master sends each of a frame's
+        /// writes even after one fails, so with more than one the board may hold some.
+        writes: u8,
         /// The reply byte.
         code: u8,
         /// What the code means.
@@ -412,6 +415,19 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
 
 /// The next step after the master refused a write with error reply `code` (0x80 | the
 /// link error's code).
+/// The start of a refused write's message: the register, or for a frame of several writes
+/// (which the master sends each of, so some may have been taken) the frame and its count.
+fn refused_what(device: u8, register: &str, writes: u8) -> String {
+    if writes > 1 {
+        format!(
+            "device {device} refused a write of {register} ({writes} register writes; the \
+             master sent each, so the board may hold some of them)"
+        )
+    } else {
+        format!("device {device} refused the write to {register}")
+    }
+}
+
 fn refusal_advice(device: u8, code: u8) -> String {
     match LinkError::from_code(code & !shared::master::ERROR_REPLY_FLAG) {
         Some(LinkError::NoAnswer) => format!(

@@ -271,6 +271,13 @@ pub struct Send {
     pub what: &'static str,
 }
 
+impl Send {
+    /// How many register writes the frame holds (its count byte).
+    pub fn writes(&self) -> u8 {
+        self.frame.get(2).copied().unwrap_or_default()
+    }
+}
+
 /// One step of a library call: a frame, or a pause.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Op {

@@ -443,6 +443,7 @@ fn act<P: Port>(
                 return Err(HostError::WriteRefused {
                     device: send.device,
                     register: send.what,
+                    writes: send.writes(),
                     code,
                     words: super::reply_error(code)
                         .map(|e| e.describe().to_string())
@@ -628,13 +629,30 @@ mod tests {
         assert!(
             message.starts_with(
                 "t.rover line 1 (`stop`) failed: 1 of the line's 36 writes refused, the other 35 \
-                 sent; the first: device 1 refused the write to"
+                 sent; the first: device 1 refused a write of a parameter block (8 register \
+                 writes;"
             ),
             "{message}"
         );
         assert!(message.contains("code 0x8c"), "{message}");
         // The script stops there: the next line never runs.
         assert!(!ran.text.contains("after"), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_refused_parameter_block_says_the_board_may_hold_some_of_it() {
+        // Wheel 1's drive block (8 register writes in one frame) gets 0x8c: the master sent
+        // each write and at least one was not taken.
+        let ran = run_script("calibrate\n", &first_write_refused(29), false);
+        assert_eq!(ran.hex.len(), 10 + 30, "{:?}", ran.hex);
+        let message = ran.result.unwrap_err().to_string();
+        assert!(
+            message.contains(
+                "the first: device 1 refused a write of a parameter block (8 register writes; \
+                 the master sent each, so the board may hold some of them): code 0x8c"
+            ),
+            "{message}"
+        );
     }
 
     #[test]

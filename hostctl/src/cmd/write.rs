@@ -67,6 +67,7 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
         return Err(HostError::WriteRefused {
             device: plan.target.device,
             register: plan.reg.name,
+            writes: 1,
             code,
             words: super::reply_error(code)
                 .map(|e| e.describe().to_string())
