@@ -1,9 +1,10 @@
 //! Fault injection through the twin, seen as a PC program sees it: a stalled wheel raises its
 //! fault on the master and every motor stops; a slave cut off the bus is detected within the
 //! master's bound and, its bus-silence failsafe armed by the master's pings, stops its own
-//! wheel after BUSTIMEOUT; a current spike raises a short; an unplugged temperature sensor raises
-//! type 10; the RC receiver takes over the drives; a PC program that armed the PC-silence
-//! failsafe and then hangs gets every motor stopped.
+//! wheel after BUSTIMEOUT, while the views go on past it; a rebooted slave stops its wheel and
+//! shows its boot state, its positions off calibration; a current spike raises a short; an
+//! unplugged temperature sensor raises type 10; the RC receiver takes over the drives; a PC
+//! program that armed the PC-silence failsafe and then hangs gets every motor stopped.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -211,6 +212,40 @@ fn update_goes_on_past_a_controller_cut_off_the_bus_and_sees_it_come_back() {
     let snap = s.update();
     assert!(snap.silent().is_empty());
     assert!(speed(&snap, 4).is_some());
+}
+
+#[test]
+fn a_rebooted_controller_stops_its_wheel_and_the_view_shows_it_booted_off_calibration() {
+    let mut s = watched_while_driving();
+    let mut dropped = Dropped::default();
+    let snap = s.update();
+    dropped.note(&snap, &s.pc);
+    assert_eq!(slave_exception(&snap, 1), None);
+    assert!(dropped.calibrated(&s.pc, 1, Motor::Steer));
+    // Controller 1 (wheel 1's drive and steer) resets, as in a brown-out.
+    s.twin.borrow_mut().reboot(1).unwrap();
+    let (ok, snap, took) = s.until(2.0, |s| {
+        s.silent().is_empty() && slave_exception(s, 1) == Some(2)
+    });
+    assert!(
+        ok,
+        "controller 1 not seen in its boot state after {took:?}: {snap:?}"
+    );
+    dropped.note(&snap, &s.pc);
+    // hostctl's view: wheel 1's steer angle is on the boot calibration, not degrees, and its
+    // exception is the boot state; wheel 2's stays in degrees.
+    assert!(!dropped.calibrated(&s.pc, 1, Motor::Steer));
+    assert!(dropped.calibrated(&s.pc, 2, Motor::Steer));
+    let lines = view_lines(&snap, &s.pc, &dropped, Duration::ZERO, 1, 1.0);
+    assert!(
+        lines[2].starts_with("1 ") && lines[2].contains('*') && lines[2].contains("boot"),
+        "{lines:#?}"
+    );
+    assert!(!lines[3].contains('*'), "{lines:#?}");
+    // Its drive is off (the boot state: duty 0), so wheel 1 coasts down.
+    s.pass(3.0);
+    let wheel_1 = physical_speeds(&s)[0];
+    assert!(wheel_1.abs() < 50.0, "wheel 1 still turning at {wheel_1}");
 }
 
 #[test]

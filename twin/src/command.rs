@@ -5,6 +5,7 @@
 //! |---|---|
 //! | `stall W [drive\|steer\|lift] on\|off` | Hold wheel W's motor still (drive if not named), or let it go |
 //! | `cut N` / `restore N` | Take controller N off the I²C bus / put it back |
+//! | `reboot N` | Reset controller N, as a brown-out or its watchdog would: back in its boot state |
 //! | `spike W drive\|steer\|lift AMPS MS` | Add AMPS to that motor's sensed current for MS ms |
 //! | `sensor I remove\|restore` | Unplug temperature sensor I (0 ambient, 1..9) / plug it back |
 //! | `temp I CELSIUS` | Set what sensor I measures (0.5 °C steps) |
@@ -34,6 +35,8 @@ pub enum Command {
     Cut(u8),
     /// Put a controller back on the bus.
     Restore(u8),
+    /// Reset a controller.
+    Reboot(u8),
     /// A current spike on one motor's sense.
     Spike {
         /// Wheel 1..=6.
@@ -116,12 +119,13 @@ pub enum CommandError {
 
 /// The list of commands, for error messages.
 pub const HELP: &str = "commands: stall W [drive|steer|lift] on|off, cut N, restore N, \
-spike W drive|steer|lift AMPS MS, sensor I remove|restore, temp I CELSIUS, \
+reboot N, spike W drive|steer|lift AMPS MS, sensor I remove|restore, temp I CELSIUS, \
 drop-serial N [to-master|to-host], rc on|off, rc CH US, status, time";
 
 const STALL: &str = "stall W [drive|steer|lift] on|off   (W = wheel 1..6)";
 const CUT: &str = "cut N   (N = controller 1..9)";
 const RESTORE: &str = "restore N   (N = controller 1..9)";
+const REBOOT: &str = "reboot N   (N = controller 1..9)";
 const SPIKE: &str = "spike W drive|steer|lift AMPS MS";
 const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
 const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9)";
@@ -214,6 +218,8 @@ impl Command {
             ("cut", _) => Err(CommandError::Usage(CUT)),
             ("restore", [n]) => Ok(Command::Restore(number(n, "a controller number (1..9)")?)),
             ("restore", _) => Err(CommandError::Usage(RESTORE)),
+            ("reboot", [n]) => Ok(Command::Reboot(number(n, "a controller number (1..9)")?)),
+            ("reboot", _) => Err(CommandError::Usage(REBOOT)),
             ("spike", [w, axis, amps, ms]) => Ok(Command::Spike {
                 wheel: wheel(w)?,
                 axis: Axis::parse(axis).ok_or(CommandError::Usage(SPIKE))?,
@@ -290,6 +296,10 @@ impl Command {
                          (`cut {n}` takes it off)"
                     )
                 }
+            }
+            Command::Reboot(n) => {
+                rover.reboot(n)?;
+                format!("controller {n} reset: it restarts in its boot state, on its defaults")
             }
             Command::Spike {
                 wheel,
@@ -371,6 +381,7 @@ mod tests {
         );
         assert_eq!(p("cut 4"), Ok(Command::Cut(4)));
         assert_eq!(p("  restore   4 "), Ok(Command::Restore(4)));
+        assert_eq!(p("reboot 9"), Ok(Command::Reboot(9)));
         assert_eq!(
             p("spike 2 steer 3.5 20"),
             Ok(Command::Spike {
@@ -479,6 +490,7 @@ mod tests {
             );
         }
         assert_eq!(Command::parse("rc"), Err(CommandError::Usage(RC)));
+        assert_eq!(Command::parse("reboot"), Err(CommandError::Usage(REBOOT)));
         assert_eq!(
             Command::parse("status now"),
             Err(CommandError::Usage("status"))

@@ -1,5 +1,5 @@
 //! Fault injection on the [`Rover`]: stalled motors, current spikes, controllers cut off
-//! the bus, lost serial bytes, unplugged temperature sensors, and the RC receiver.
+//! the bus or rebooted, lost serial bytes, unplugged temperature sensors, and the RC receiver.
 
 use crate::rover::{RC_CHANNELS, SENSORS};
 use crate::serial::Direction;
@@ -45,6 +45,17 @@ impl Rover {
     pub fn restore(&mut self, n: u8) -> Result<(), TwinError> {
         check_controller(n)?;
         self.bus.restore(n);
+        Ok(())
+    }
+
+    /// Resets controller `n`, as a brown-out or its own watchdog would: it restarts from
+    /// its reset vector, back in its boot state on its power-up defaults (its motors stop),
+    /// while the rest of the rover runs on.
+    pub fn reboot(&mut self, n: u8) -> Result<(), TwinError> {
+        check_controller(n)?;
+        if let Some(mut chip) = self.bus.chip(usize::from(n)) {
+            chip.reset();
+        }
         Ok(())
     }
 
