@@ -790,21 +790,26 @@ fn watch_json_gives_one_line_per_device_per_round() {
     );
 }
 
+/// A watch of set 1 (controllers 3, 6, 9) up to the end of round 1, in which controller 6
+/// does not answer (the master's last error NoAnswer, count 1).
+const SIX_SILENT_IN_ROUND_1: [&[u8]; 6] = [
+    &[0x01],
+    &[0x01, 0x00],
+    &[],
+    &[0x02],
+    &[0x0c, 0x01, 0x00],
+    &[0x03, 0x00],
+];
+
 #[test]
 fn watch_goes_on_past_a_controller_that_does_not_answer() {
     // Round 1: controller 6 is off the bus (no reply; the master's last link error is
     // code 12, NoAnswer); round 2: it answers again.
-    let replies: [&[u8]; 9] = [
-        &[0x01],
-        &[0x01, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x01, 0x00],
-        &[0x03, 0x00],
-        &[0x04, 0x00],
-        &[0x05, 0x00],
-        &[0x06, 0x00],
-    ];
+    let replies = [
+        &SIX_SILENT_IN_ROUND_1[..],
+        &[&[0x04, 0x00], &[0x05, 0x00], &[0x06, 0x00]],
+    ]
+    .concat();
     let args = "watch --readset 1 --count 2 --interval-ms 0 TIMER";
     let o = hostctl(args, &replies);
     o.result.unwrap();
@@ -855,18 +860,11 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     // Round 1: controller 6 off the bus (NoAnswer, count 1). Round 2: controller 3's reply
     // is lost on the serial line; the master's last error is still that NoAnswer, count 1:
     // an old error, so this is a timeout, not "no answer".
-    let replies: [&[u8]; 8] = [
-        &[0x01],
-        &[0x01, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x01, 0x00],
-        &[0x03, 0x00],
-        &[],
-        &[0x02],
-    ];
-    let mut replies = replies.to_vec();
-    replies.push(&[0x0c, 0x01, 0x00]);
+    let replies = [
+        &SIX_SILENT_IN_ROUND_1[..],
+        &[&[], &[0x02], &[0x0c, 0x01, 0x00]],
+    ]
+    .concat();
     // Each watch must end with controller 3's timeout.
     let timed_out = |o: &Outcome| {
         assert!(
@@ -895,25 +893,23 @@ fn a_controller_that_did_not_answer_is_read_again_with_the_short_wait() {
     use crate::link::{PROBE_TIMEOUT, REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT};
     // Controller 6 is off the bus in rounds 1 and 2 (NoAnswer, counts 1 and 2) and back
     // in round 3.
-    let replies: [&[u8]; 17] = [
-        &[0x01],
-        &[0x01, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x01, 0x00],
-        &[0x03, 0x00],
-        &[0x04, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x02, 0x00],
-        &[0x05, 0x00],
-        &[0x06, 0x00],
-        &[0x07, 0x00],
-        &[0x08, 0x00],
-        &[0x09, 0x00],
-        &[0x0a, 0x00],
-        &[0x0b, 0x00],
-    ];
+    let replies = [
+        &SIX_SILENT_IN_ROUND_1[..],
+        &[
+            &[0x04, 0x00],
+            &[],
+            &[0x02],
+            &[0x0c, 0x02, 0x00],
+            &[0x05, 0x00],
+            &[0x06, 0x00],
+            &[0x07, 0x00],
+            &[0x08, 0x00],
+            &[0x09, 0x00],
+            &[0x0a, 0x00],
+            &[0x0b, 0x00],
+        ],
+    ]
+    .concat();
     let o = hostctl(
         "watch --readset 1 --count 4 --interval-ms 0 TIMER",
         &replies,
@@ -943,20 +939,18 @@ fn a_short_wait_that_fails_otherwise_is_read_again_with_the_full_wait() {
     // Round 1: controller 6 off the bus (NoAnswer, count 1). Round 2: its reply does not
     // come within the short wait, but the master records no new error (count still 1):
     // the reply may just be slow, so 6 is read again with the full wait, and answers.
-    let replies: [&[u8]; 12] = [
-        &[0x01],
-        &[0x01, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x01, 0x00],
-        &[0x03, 0x00],
-        &[0x04, 0x00],
-        &[],
-        &[0x02],
-        &[0x0c, 0x01, 0x00],
-        &[0x05, 0x00],
-        &[0x06, 0x00],
-    ];
+    let replies = [
+        &SIX_SILENT_IN_ROUND_1[..],
+        &[
+            &[0x04, 0x00],
+            &[],
+            &[0x02],
+            &[0x0c, 0x01, 0x00],
+            &[0x05, 0x00],
+            &[0x06, 0x00],
+        ],
+    ]
+    .concat();
     let o = hostctl(
         "watch --readset 1 --count 2 --interval-ms 0 TIMER",
         &replies,
