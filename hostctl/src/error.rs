@@ -413,8 +413,6 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
     )
 }
 
-/// The next step after the master refused a write with error reply `code` (0x80 | the
-/// link error's code).
 /// The start of a refused write's message: the register, or for a frame of several writes
 /// (which the master sends each of, so some may have been taken) the frame and its count.
 fn refused_what(device: u8, register: &str, writes: u8) -> String {
@@ -428,6 +426,8 @@ fn refused_what(device: u8, register: &str, writes: u8) -> String {
     }
 }
 
+/// The next step after the master refused a write with error reply `code` (0x80 | the
+/// link error's code).
 fn refusal_advice(device: u8, code: u8) -> String {
     match LinkError::from_code(code & !shared::master::ERROR_REPLY_FLAG) {
         Some(LinkError::NoAnswer) => format!(

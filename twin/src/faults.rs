@@ -50,12 +50,15 @@ impl Rover {
 
     /// Resets controller `n`, as a brown-out or its own watchdog would: it restarts from
     /// its reset vector, back in its boot state on its power-up defaults (its motors stop),
-    /// while the rest of the rover runs on.
+    /// while the rest of the rover runs on. (The chip sees an external reset; the slave
+    /// firmware treats every reset cause alike.)
     pub fn reboot(&mut self, n: u8) -> Result<(), TwinError> {
         check_controller(n)?;
-        if let Some(mut chip) = self.bus.chip(usize::from(n)) {
-            chip.reset();
-        }
+        let mut chip = self
+            .bus
+            .chip(usize::from(n))
+            .ok_or(TwinError::NoSuchController(n))?;
+        chip.reset();
         Ok(())
     }
 
