@@ -45,6 +45,11 @@ impl Object {
         self
     }
 
+    /// Adds a boolean member.
+    pub fn bool(self, key: &str, value: bool) -> Self {
+        self.raw(key, if value { "true" } else { "false" })
+    }
+
     /// Adds a member whose value is already JSON text (an array or object).
     pub fn raw(mut self, key: &str, json: &str) -> Self {
         self.key(key);

@@ -36,7 +36,7 @@ pub fn register_json(
     }
     .str("unit", reg.unit);
     match read {
-        Some(read) => object.raw("read", if read { "true" } else { "false" }),
+        Some(read) => object.bool("read", read),
         None => object,
     }
 }

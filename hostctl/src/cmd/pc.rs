@@ -380,12 +380,12 @@ impl Pc {
     /// or CALIBMAX on what was written; after a hard reset on its boot calibration again.
     pub fn calibrated(&self, wheel: u8, motor: Motor) -> bool {
         let w = usize::from(wheel - 1);
-        let (regs, table) = match motor {
+        let table = match motor {
             Motor::Drive => return true,
-            Motor::Steer => (calib_registers(wheel, motor), STEER_CALIBRATION.get(w)),
-            Motor::Lift => (calib_registers(wheel, motor), LIFT_CALIBRATION.get(w)),
+            Motor::Steer => &STEER_CALIBRATION,
+            Motor::Lift => &LIFT_CALIBRATION,
         };
-        let (Some(regs), Some(&(min, max))) = (regs, table) else {
+        let (Some(regs), Some(&(min, max))) = (calib_registers(wheel, motor), table.get(w)) else {
             return false;
         };
         let kind = board_kind(motor);

@@ -84,7 +84,7 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
             .str("board", target.board());
         let object = fresh::register_json(object, reg, raw, read);
         return if boot_scale {
-            object.raw("boot_calibration", "true").finish()
+            object.bool("boot_calibration", true).finish()
         } else {
             object.finish()
         };

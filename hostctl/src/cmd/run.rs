@@ -329,7 +329,7 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String
             }
             .str("unit", reg.unit);
             match off_calibration(pc, dropped, *device, reg) {
-                Some(off) => object.raw("calibrated", if off { "false" } else { "true" }),
+                Some(off) => object.bool("calibrated", !off),
                 None => object,
             }
             .finish()
@@ -366,18 +366,13 @@ fn view_json(
         // `calibrated` false: a position on a pot scale that is not the wheel's, not degrees
         // (see `Pc::calibrated`).
         let motor = |m: Motor| {
-            let calibrated = if dropped.calibrated(&line.pc, wheel, m) {
-                "true"
-            } else {
-                "false"
-            };
             let required = json::Object::new()
                 .num("required", line.pc.demand(wheel, m).unwrap_or(f32::NAN))
                 .num("actual", actual(s, wheel, m).unwrap_or(f32::NAN))
-                .raw("calibrated", calibrated);
+                .bool("calibrated", dropped.calibrated(&line.pc, wheel, m));
             // An exception dropped the demand: the board no longer aims for it.
             if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m) {
-                required.raw("dropped", "true").finish()
+                required.bool("dropped", true).finish()
             } else {
                 required.finish()
             }

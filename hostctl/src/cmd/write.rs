@@ -96,10 +96,10 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
             .num("applied", applied)
             .str("unit", plan.reg.unit);
         if let Some(Ok(stopped)) = exception {
-            object = object.raw("in_exception", if stopped { "true" } else { "false" });
+            object = object.bool("in_exception", stopped);
         }
         if boot_scale {
-            object = object.raw("boot_calibration", "true");
+            object = object.bool("boot_calibration", true);
         }
         return object.finish();
     }
