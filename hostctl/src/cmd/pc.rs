@@ -98,7 +98,7 @@ impl Pairs {
 
 /// REG_RESET's bit 1 (value 2), which reboots the board through its watchdog
 /// (reference §6.2).
-pub(crate) const HARD_RESET: u16 = 2;
+const HARD_RESET: u16 = 2;
 
 /// One of a wheel's motors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -275,6 +275,18 @@ impl Send {
     /// How many register writes the frame holds (its count byte).
     pub fn writes(&self) -> u8 {
         self.frame.get(2).copied().unwrap_or_default()
+    }
+
+    /// Whether the frame hard-resets a controller: its one write (length, address, count 1,
+    /// id, value) is REG_RESET with bit 1 ([`HARD_RESET`]) set (the master's own reset register, id 0 too, has no such bit).
+    pub fn hard_resets(&self) -> bool {
+        self.device != 0
+            && self.writes() == 1
+            && self.frame.get(3) == Some(&id::REG_RESET)
+            && self
+                .frame
+                .get(4)
+                .is_some_and(|&low| u16::from(low) & HARD_RESET != 0)
     }
 }
 

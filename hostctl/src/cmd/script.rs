@@ -175,16 +175,10 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
 fn hard_reset_notes(lines: &[Line]) -> Vec<String> {
     let mut notes = Vec::new();
     for (i, line) in lines.iter().enumerate() {
-        let hard = line.actions.iter().any(|a| match a {
-            // A one-write frame: length, address, count 1, id, value.
-            Action::Op(Op::Write(w)) => {
-                w.what == "REG_RESET"
-                    && w.frame
-                        .get(4)
-                        .is_some_and(|&v| u16::from(v) & pc::HARD_RESET != 0)
-            }
-            _ => false,
-        });
+        let hard = line
+            .actions
+            .iter()
+            .any(|a| matches!(a, Action::Op(Op::Write(w)) if w.hard_resets()));
         let waits = lines.get(i + 1).is_some_and(|next| {
             matches!(next.actions.as_slice(), [Action::Live { time, .. }] if time.as_secs() >= 5)
         });
