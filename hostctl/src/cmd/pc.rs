@@ -278,7 +278,8 @@ impl Send {
     }
 
     /// Whether the frame hard-resets a controller: its one write (length, address, count 1,
-    /// id, value) is REG_RESET with bit 1 (value 2) set (the master's own reset register, id 0 too, has no such bit).
+    /// id, value) is REG_RESET with bit 1 (value 2) set (the master's own reset register,
+    /// id 0 too, has no such bit).
     pub fn hard_resets(&self) -> bool {
         self.device != 0
             && self.writes() == 1
