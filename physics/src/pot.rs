@@ -132,7 +132,7 @@ mod tests {
         let pot = Pot::steer(1).expect("wheel 1 has a steer pot");
         assert!((pot.min_deg() - -56.6929).abs() < 1e-4);
         assert!((pot.max_deg() - 65.1969).abs() < 1e-4);
-        let lift = Pot::lift(2).unwrap_or(Pot::new(0.0, 0.0));
+        let lift = Pot::lift(2).expect("wheel 2 has a lift pot");
         assert!((lift.min_deg() - -102.05).abs() < 0.01);
         assert!((lift.max_deg() - 111.50).abs() < 0.01);
         assert!(Pot::steer(0).is_none() && Pot::steer(7).is_none());

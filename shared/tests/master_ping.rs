@@ -163,19 +163,21 @@ fn booted() -> (Schedule, MasterLatch, Rover) {
 
 /// A rover run to `until_us` whose master the PC never reset: still in its boot exception.
 fn never_reset(until_us: u64) -> (Schedule, MasterLatch, Rover) {
-    let mut s = Schedule::new();
-    let mut latch = MasterLatch::boot();
-    let mut rover = Rover::new();
-    rover.run(&mut s, &mut latch, until_us);
-    (s, latch, rover)
+    run_from_boot(Rover::new(), until_us)
 }
 
 /// [`booted`] with a rover set up before the boot (e.g. with absent slaves).
-fn booted_with(mut rover: Rover) -> (Schedule, MasterLatch, Rover) {
+fn booted_with(rover: Rover) -> (Schedule, MasterLatch, Rover) {
+    let (s, mut latch, rover) = run_from_boot(rover, 5_500_000);
+    latch.clear();
+    (s, latch, rover)
+}
+
+/// `rover` with a master fresh from its boot, run to `until_us`.
+fn run_from_boot(mut rover: Rover, until_us: u64) -> (Schedule, MasterLatch, Rover) {
     let mut s = Schedule::new();
     let mut latch = MasterLatch::boot();
-    rover.run(&mut s, &mut latch, 5_500_000);
-    latch.clear();
+    rover.run(&mut s, &mut latch, until_us);
     (s, latch, rover)
 }
 

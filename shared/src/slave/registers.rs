@@ -304,7 +304,7 @@ const fn mark(reg: u8) -> Option<(usize, u8)> {
 /// programs can see: the steer and lift OVERCURRENTTHRESH read 0x0000 (they act as 300),
 /// STALLCHECK reads 0x77 (it acts as 120), the calibration reads 0x00 / 0xfe (clamped
 /// from −512 / 512).
-pub fn boot_values(variant: Variant) -> &'static [(u8, u16)] {
+fn boot_values(variant: Variant) -> &'static [(u8, u16)] {
     match variant {
         Variant::DriveSteer => &DS_BOOT,
         Variant::LiftLift => &LL_BOOT,
