@@ -207,17 +207,48 @@ fn read_only_registers_ignore_writes() {
             assert_ne!(after, 0xa55a, "register {reg} of {addr}");
         }
         assert_eq!(r.read_raw(id::REG_STATUS), status);
-        // A run across a read-only register skips its bytes and writes the next one:
+        // Bytes past a read-only register do not reach the writable one after it:
         // STEER/ONE CURRENT (2 bytes, read-only) then the following writable register.
         let (ro, next) = match r.board {
             BoardKind::LiftLift => (id::REGLL_ONE_CURRENT, id::REGLL_ONE_CALIBMIN),
             _ => (id::REGDS_STEER_CURRENT, id::REGDS_STEER_STALLCHECK),
         };
         assert_eq!(next, ro + 1);
+        let kept = r.read_raw(next);
         r.bus.write(r.addr, &[ro, 0x11, 0x22, 0x42]).unwrap();
         r.run_us(2_000);
-        assert_eq!(r.read_raw(next), 0x42);
+        assert_eq!(r.read_raw(next), kept);
+        assert_ne!(kept, 0x42);
     }
+}
+
+#[test]
+fn bytes_past_the_register_written_are_ignored() {
+    // One register per write (reference §5). Two stray bytes after REG_DEBUG would be
+    // a drive demand of 4000 ticks/s in REQSPEED, the next register; after
+    // EXCEPTIONDATA they would mask every exception in DISABLEDEXCEPTIONS.
+    let mut r = booted(1);
+    r.reset_exceptions();
+    assert_eq!(id::REGDS_DRIVE_REQSPEED, id::REG_DEBUG + 1);
+    assert_eq!(id::REG_DISABLEDEXCEPTIONS, id::REG_EXCEPTIONDATA + 1);
+    let demand = r.read_raw(id::REGDS_DRIVE_REQSPEED);
+    r.bus
+        .write(r.addr, &[id::REG_DEBUG, 0x00, 0x00, 0xfe, 0xff])
+        .unwrap();
+    r.run_us(2_000);
+    assert_eq!(r.read_raw(id::REGDS_DRIVE_REQSPEED), demand);
+    assert_eq!(r.read_raw(id::REG_STATUS), 0x0008, "still running");
+    let mask = r.read_raw(id::REG_DISABLEDEXCEPTIONS);
+    r.bus
+        .write(r.addr, &[id::REG_EXCEPTIONDATA, 0x64, 0x00, 0xff, 0xff])
+        .unwrap();
+    r.run_us(2_000);
+    assert_eq!(r.read_raw(id::REG_DISABLEDEXCEPTIONS), mask);
+    assert_eq!(
+        r.read_raw(id::REG_EXCEPTIONDATA),
+        0x0503,
+        "REMOTESLAVE raised"
+    );
 }
 
 #[test]

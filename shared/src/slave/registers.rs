@@ -1,14 +1,14 @@
 //! The slave's register file as the I2C bus sees it, with change marks for the tick.
 //!
 //! **Writes.** A write transaction's first byte sets the register pointer. The bytes
-//! after it fill that register (its size, LSB first) and continue into the following
-//! registers. A register's value is committed, and marked changed, when its last byte
-//! arrives, so the tick never sees half of a two-byte value; a register left incomplete
-//! when the transaction ends is dropped. REG_EXCEPTIONDATA is marked at its first byte
-//! too: any write to it raises REMOTESLAVE (reference §2.1), whatever its value, so a
-//! spread write that a master reset or a bus error cut short still stops the board.
-//! Bytes for a read-only register are skipped (the write continues with the next
-//! register); bytes for an id the table lacks are dropped.
+//! after it fill that register (its size, LSB first); any bytes after those are ignored
+//! (one register per write, reference §5), so a stray or corrupted extra byte cannot
+//! reach the next register. A register's value is committed, and marked changed, when
+//! its last byte arrives, so the tick never sees half of a two-byte value; a register
+//! left incomplete when the transaction ends is dropped. REG_EXCEPTIONDATA is marked at
+//! its first byte too: any write to it raises REMOTESLAVE (reference §2.1), whatever its
+//! value, so a spread write that a master reset or a bus error cut short still stops the
+//! board. Bytes for a read-only register or an id the table lacks are dropped.
 //! An empty write (no byte, or only the pointer) changes no register: the emulator shows
 //! the STOP after a master read as an empty write. Writes to REG_RESET are OR-ed into
 //! it until the tick processes them, so two quick resets do not merge into one.
@@ -230,10 +230,8 @@ impl<B: Board> RegisterFile<B> {
                 let hi = if size > 1 { byte } else { 0 };
                 self.commit(reg, lo, hi);
             }
-            self.phase = Phase::Writing {
-                id: reg.wrapping_add(1),
-                byte: 0,
-            };
+            // One register per write (reference §5): the bytes after it are ignored.
+            self.phase = Phase::Idle;
         } else {
             self.held = byte;
             self.phase = Phase::Writing {
