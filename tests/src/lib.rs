@@ -1,1 +1,2 @@
 //! Helpers shared by the emulator tests.
+pub mod stack_bound;
