@@ -28,6 +28,7 @@ pub mod port;
 pub mod resolve;
 pub mod suggest;
 pub mod table;
+pub mod term;
 #[cfg(test)]
 mod tests;
 pub mod twin;
@@ -73,6 +74,8 @@ pub struct Style {
     pub json: bool,
     /// Redraw `watch` tables in place (stdout is a terminal).
     pub in_place: bool,
+    /// The terminal's width, asked at each redraw ([`term::stdout_width`]).
+    pub width: fn() -> Option<usize>,
 }
 
 /// Runs a plan over a connected link, writing results to `out`.
@@ -103,11 +106,12 @@ pub fn execute_with_clock<P: Port>(
                 out,
                 in_place: style.in_place && !style.json,
                 json: style.json,
+                width: style.width,
             };
             return cmd::run::run(p, link, clock, &mut output);
         }
         Plan::Watch(p) => {
-            let mut screen = Screen::new(style.in_place && !style.json);
+            let mut screen = Screen::new(style.in_place && !style.json, style.width);
             return cmd::watch::run(p, link, &mut |round| {
                 let text = if style.json {
                     let mut lines = cmd::watch::json_lines(round).join("\n");

@@ -13,6 +13,7 @@ fn main() -> ExitCode {
     let style = Style {
         json: cli.json,
         in_place: std::io::stdout().is_terminal(),
+        width: hostctl::term::stdout_width,
     };
     let settle = Duration::from_millis(cli.settle_ms);
     // The settle is waited here, in the twin's emulated time when the port is a twin's.

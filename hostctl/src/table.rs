@@ -49,13 +49,22 @@ impl Table {
 #[derive(Debug)]
 pub struct Screen {
     in_place: bool,
+    /// Terminal rows the previous frame took: a line longer than the terminal is wide
+    /// wraps onto more than one, and the next frame must go back over all of them.
     drawn: usize,
+    /// The terminal's width in columns, asked at each frame (it may be resized).
+    width: fn() -> Option<usize>,
 }
 
 impl Screen {
-    /// A screen that redraws in place when `in_place` (a terminal).
-    pub fn new(in_place: bool) -> Self {
-        Self { in_place, drawn: 0 }
+    /// A screen that redraws in place when `in_place` (a terminal, whose width in
+    /// columns `width` tells at each frame).
+    pub fn new(in_place: bool, width: fn() -> Option<usize>) -> Self {
+        Self {
+            in_place,
+            drawn: 0,
+            width,
+        }
     }
 
     /// The text that shows `lines` as the new frame.
@@ -63,7 +72,7 @@ impl Screen {
         let mut out = String::new();
         if self.in_place {
             if self.drawn > 0 {
-                // Cursor up to the first line of the previous frame.
+                // Cursor up to the first row of the previous frame.
                 out.push_str(&format!("\x1b[{}A\r", self.drawn));
             }
             for line in lines {
@@ -73,6 +82,14 @@ impl Screen {
             }
             // Clear lines left over from a taller previous frame.
             out.push_str("\x1b[J");
+            let width = (self.width)().filter(|&w| w > 0);
+            self.drawn = lines
+                .iter()
+                .map(|l| match width {
+                    Some(w) => l.chars().count().div_ceil(w).max(1),
+                    None => 1,
+                })
+                .sum();
         } else {
             if self.drawn > 0 {
                 out.push('\n');
@@ -81,8 +98,8 @@ impl Screen {
                 out.push_str(line);
                 out.push('\n');
             }
+            self.drawn = lines.len();
         }
-        self.drawn = lines.len();
         out
     }
 }
@@ -123,7 +140,7 @@ mod tests {
 
     #[test]
     fn frames_follow_each_other_off_a_terminal() {
-        let mut screen = Screen::new(false);
+        let mut screen = Screen::new(false, || None);
         let lines = strings(&["a", "b"]);
         assert_eq!(screen.frame(&lines), "a\nb\n");
         assert_eq!(screen.frame(&lines), "\na\nb\n");
@@ -131,12 +148,27 @@ mod tests {
 
     #[test]
     fn frames_overwrite_on_a_terminal() {
-        let mut screen = Screen::new(true);
+        let mut screen = Screen::new(true, || None);
         assert_eq!(
             screen.frame(&strings(&["a", "b"])),
             "a\x1b[K\nb\x1b[K\n\x1b[J"
         );
         assert_eq!(screen.frame(&strings(&["c"])), "\x1b[2A\rc\x1b[K\n\x1b[J");
         assert_eq!(screen.frame(&strings(&["d"])), "\x1b[1A\rd\x1b[K\n\x1b[J");
+    }
+
+    #[test]
+    fn a_frame_goes_back_over_the_rows_its_long_lines_wrapped_onto() {
+        // On a 10-column terminal: 10 characters take one row, 11 two, 25 three.
+        let mut screen = Screen::new(true, || Some(10));
+        let long = [
+            "x".repeat(10),
+            "y".repeat(11),
+            String::new(),
+            "z".repeat(25),
+        ];
+        screen.frame(&long);
+        assert_eq!(screen.frame(&strings(&["a"])), "\x1b[7A\ra\x1b[K\n\x1b[J");
+        assert_eq!(screen.frame(&strings(&["b"])), "\x1b[1A\rb\x1b[K\n\x1b[J");
     }
 }

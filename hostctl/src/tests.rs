@@ -35,6 +35,7 @@ fn hostctl_with<R: AsRef<[u8]>>(
     let style = Style {
         json: cli.json,
         in_place,
+        width: || None,
     };
     let result = run(
         &cli,

@@ -62,6 +62,7 @@ fn write_over_a_pty_after_the_banner() {
     let style = Style {
         json: false,
         in_place: false,
+        width: || None,
     };
     run(
         &cli,

@@ -181,6 +181,7 @@ fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan) -> (String, EmuCloc
             out: &mut out,
             in_place: false,
             json: false,
+            width: || None,
         },
     );
     let text = String::from_utf8(out).unwrap();

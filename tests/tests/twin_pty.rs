@@ -178,6 +178,7 @@ fn closing_the_port_stops_a_rover_left_driving() {
     let style = hostctl::Style {
         json: false,
         in_place: false,
+        width: || None,
     };
     let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
     hostctl::execute_with_clock(&plan, &mut serial, style, &mut Vec::new(), &mut *clock)

@@ -127,6 +127,8 @@ pub struct Output<'a> {
     pub in_place: bool,
     /// JSON lines instead of text.
     pub json: bool,
+    /// The terminal's width, asked at each redraw.
+    pub width: fn() -> Option<usize>,
 }
 
 /// Runs the script over a connected link.
@@ -473,7 +475,7 @@ fn live<P: Port>(
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let start = clock.now();
-    let mut screen = Screen::new(output.in_place && !log);
+    let mut screen = Screen::new(output.in_place && !log, output.width);
     let mut updates = 0u64;
     let mut next_draw = start;
     let period = if log { LOG_EVERY } else { REDRAW };
@@ -601,6 +603,7 @@ mod tests {
             out: &mut out,
             in_place: false,
             json,
+            width: || None,
         };
         let result = run(plan, &mut link, &mut clock, &mut output);
         Ran {
@@ -1004,6 +1007,7 @@ mod tests {
         let style = crate::Style {
             json: false,
             in_place: false,
+            width: || None,
         };
         let cli = crate::Cli::try_parse_from(["hostctl", "run", "/nonexistent.rover"]).unwrap();
         let mut asked = false;
