@@ -151,7 +151,7 @@ pub enum HostError {
     },
 
     /// `--pairs` is not a list of wheel pairs.
-    #[error("`--pairs {given}` is not a list of wheel pairs: give one or more of 0, 1, 2 separated by commas (pair p is wheels 2p+1 and 2p+2 on controllers 3p+1..3p+3, as the library's init() mask numbers them), e.g. `--pairs 0` for the front pair alone")]
+    #[error("`--pairs {given}` is not a list of wheel pairs: give one or more of 0, 1, 2 separated by commas (pair p is wheels 2p+1 and 2p+2 on controllers 3p+1..3p+3, as the library's init() mask numbers them), e.g. `--pairs 0` for the rear pair (wheels 1 and 2) alone")]
     BadPairs {
         /// What was given.
         given: String,

@@ -185,6 +185,48 @@ pub fn run_with<P: Port>(
     result
 }
 
+/// A command line clap refused, as the JSON line `--json` promises for every failure:
+/// `Some` when `args` (the whole command line) ask for JSON and `error` is a failure, not
+/// a request for help or the version. The command is the first subcommand named, if any.
+pub fn usage_error_json<I, T>(error: &clap::Error, args: I) -> Option<String>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString>,
+{
+    use clap::error::ErrorKind;
+    if matches!(
+        error.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        return None;
+    }
+    let args: Vec<String> = args
+        .into_iter()
+        .skip(1)
+        .map(|a| a.into().to_string_lossy().into_owned())
+        .take_while(|a| a != "--")
+        .collect();
+    if !args.iter().any(|a| a == "--json") {
+        return None;
+    }
+    let commands = ["write", "read", "readset", "watch", "run"];
+    let command = args
+        .iter()
+        .find(|a| commands.contains(&a.as_str()))
+        .map_or("", String::as_str);
+    let rendered = error.render().to_string();
+    let first = rendered.lines().next().unwrap_or_default();
+    let words = first.strip_prefix("error: ").unwrap_or(first);
+    Some(
+        json::Object::new()
+            .str("command", command)
+            .str("error", words)
+            .finish(),
+    )
+}
+
 /// A failed command as one JSON line: the command, the error's words and, for a script
 /// line, its number and text.
 fn error_json(command: &Command, error: &HostError) -> String {

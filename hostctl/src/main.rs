@@ -9,7 +9,18 @@ use clap::Parser;
 use hostctl::{link, Cli, Style};
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match hostctl::usage_error_json(&e, std::env::args_os()) {
+            // `--json` promises a last JSON line and status 1 for every failure.
+            Some(line) => {
+                println!("{line}");
+                let _ = e.print();
+                return ExitCode::FAILURE;
+            }
+            None => e.exit(),
+        },
+    };
     let style = Style {
         json: cli.json,
         in_place: std::io::stdout().is_terminal(),

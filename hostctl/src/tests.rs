@@ -1050,6 +1050,35 @@ fn run_with_json_prints_json_lines() {
 }
 
 #[test]
+fn with_json_a_command_line_clap_refuses_is_a_json_line_too() {
+    use clap::Parser;
+    let refused = |args: &str| {
+        let argv: Vec<&str> = std::iter::once("hostctl")
+            .chain(args.split_whitespace())
+            .collect();
+        let e = Cli::try_parse_from(&argv).unwrap_err();
+        crate::usage_error_json(&e, argv)
+    };
+    // A missing argument and a value beyond its limit, with --json before or after.
+    let line = refused("--json read 1").expect("a JSON line");
+    assert!(
+        line.starts_with("{\"command\":\"read\",\"error\":\"the following required arguments"),
+        "{line}"
+    );
+    let line = refused("--settle-ms 70000 read 1 status --json").expect("a JSON line");
+    assert!(line.contains("\"error\":\"invalid value '70000'"), "{line}");
+    let line = refused("--json frobnicate").expect("a JSON line");
+    assert!(
+        line.starts_with("{\"command\":\"\",\"error\":\"unrecognized subcommand"),
+        "{line}"
+    );
+    // Without --json, and for help, clap's own text and status stay.
+    assert_eq!(refused("read 1"), None);
+    assert_eq!(refused("--json --help"), None);
+    assert_eq!(refused("--json read --help"), None);
+}
+
+#[test]
 fn with_json_a_failure_is_a_json_line_too() {
     // Refused input: nothing sent, the error as JSON on stdout (and as the result).
     let o = hostctl::<&[u8]>("--json write 1 DRIVE_REQSPEED 5000", &[]);

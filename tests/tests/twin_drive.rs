@@ -10,7 +10,7 @@
 //! wheel 1, stop) and checks the live view it prints against what the rover should be
 //! doing, so the demo shows real output of the emulated firmware. The third runs a script
 //! with `--pairs 0` on a twin whose pairs 1 and 2 are off the bus from power-up, as on a
-//! bench with the front pair alone. (The tests live in one file so they run in parallel.)
+//! bench with the rear pair (wheels 1 and 2) alone. (The tests live in one file so they run in parallel.)
 //!
 //! NEEDS THE REAL SLAVE IMAGES: with stub slaves nothing answers on the bus and the first
 //! configuration of a read set fails.
