@@ -392,7 +392,7 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
         LinkError::NoAnswer if device != 0 => format!(
             "controller {device} is not answering the master on the I2C bus; check that it is \
              fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
-             rover"
+             rover{STILL_BOOTING}"
         ),
         LinkError::NoAnswer => {
             "a controller is not answering the master on the I2C bus; reset the rover".to_owned()
@@ -412,6 +412,11 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
         error.describe()
     )
 }
+
+/// The other cause of a controller's silence right after the port opened: the master's
+/// boot resets every controller, and a short `--settle-ms` may not wait for them.
+const STILL_BOOTING: &str = "; or, if this was the first command after the port opened, \
+     it was still rebooting from the master's boot: leave `--settle-ms` at its default, 2000";
 
 /// The start of a refused write's message: the register, or for a frame of several writes
 /// (which the master sends each of, so some may have been taken) the frame and its count.
@@ -433,7 +438,7 @@ fn refusal_advice(device: u8, code: u8) -> String {
         Some(LinkError::NoAnswer) => format!(
             "controller {device} is not answering the master on the I2C bus; check that it is \
              fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
-             rover"
+             rover{STILL_BOOTING}"
         ),
         _ => "the frame reached the master damaged or not as sent; retry, and reset the rover \
               or restart the twin if it keeps happening"

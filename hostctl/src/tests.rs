@@ -332,7 +332,8 @@ fn a_timeout_names_the_cause_the_master_reports() {
          since its boot (it may be older than this command): a slave did not answer on the \
          I2C bus (code 12, 3 in all): controller 4 is not answering the master on the I2C \
          bus; check that it is fitted and powered (on the twin: `twin inject restore 4`), then \
-         reset the rover"
+         reset the rover; or, if this was the first command after the port opened, it was \
+         still rebooting from the master's boot: leave `--settle-ms` at its default, 2000"
     );
     // No link error: the controller answered the master, so the reply was lost on the
     // way back (or the master rebooted).
