@@ -48,6 +48,27 @@ pub fn on_calibrated_scale(reg: &Register) -> bool {
     reg.unit == "deg" && !reg.name.ends_with("CALIBMIN") && !reg.name.ends_with("CALIBMAX")
 }
 
+/// Whether `raw` is a calibration end (CALIBMIN, CALIBMAX) as a board fresh from boot
+/// shows it: the board calibrates with −512..512, which the 1-byte register cannot hold,
+/// so it reads its range's end (raw 0x00, −120, or 0xfe, +120) while the board uses ±512
+/// (reference E14, §8.1).
+pub fn is_boot_calibration_end(reg: &Register, raw: u16) -> bool {
+    let boot = if reg.name.ends_with("CALIBMIN") {
+        -512.0
+    } else if reg.name.ends_with("CALIBMAX") {
+        512.0
+    } else {
+        return false;
+    };
+    raw == mapping::map(boot, reg)
+}
+
+/// The note for a calibration end read right after the port opened.
+pub const BOOT_CALIBRATION_END: &str = "note: not what the board uses: opening the port \
+rebooted the rover, and a board fresh from boot calibrates with -512..512, which this 1-byte \
+register shows clamped to its range. The board uses this register's value once it is \
+written, e.g. by `calibrate` in a `hostctl run FILE` script.";
+
 /// The note for such a register, read or written right after the port opened.
 pub const BOOT_CALIBRATION: &str = "note: not degrees: opening the port rebooted the rover, so \
 the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the register's \

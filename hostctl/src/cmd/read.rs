@@ -73,17 +73,19 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
     Ok(report(target, plan.reg, raw, read, json))
 }
 
-/// The value in units and raw; for a position, that it is not degrees; for a temperature
-/// the master has not read, that it is no reading (see [`fresh`]).
+/// The value in units and raw; for a position, that it is not degrees; for a calibration
+/// end, that the board uses ±512 meanwhile; for a temperature the master has not read,
+/// that it is no reading (see [`fresh`]).
 fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bool) -> String {
     let boot_scale = target.device != 0 && fresh::on_calibrated_scale(reg);
+    let boot_end = target.device != 0 && fresh::is_boot_calibration_end(reg, raw);
     if json {
         let object = json::Object::new()
             .str("command", "read")
             .int("device", target.device)
             .str("board", target.board());
         let object = fresh::register_json(object, reg, raw, read);
-        return if boot_scale {
+        return if boot_scale || boot_end {
             object.bool("boot_calibration", true).finish()
         } else {
             object.finish()
@@ -109,6 +111,8 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
     );
     if boot_scale {
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
+    } else if boot_end {
+        format!("{text}\n{}", fresh::BOOT_CALIBRATION_END)
     } else if let Some(words) = exception_words(target, reg, raw) {
         format!("{text}: {words}")
     } else if let Some(note) = resolve::use_note(reg, raw) {
