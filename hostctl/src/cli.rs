@@ -75,15 +75,16 @@ pub enum Command {
 
     /// Run a script of rover commands over one connection (opening the port resets the
     /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
-    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait|watch SECONDS (with a
-    /// live view of required against actual per wheel), show DEV REG… (adds registers,
-    /// e.g. `show 1 drive_control drive_error`, to every later view), say TEXT. A comment
-    /// starts at a
+    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop, wait SECONDS (a live view of
+    /// required against actual per wheel, redrawn in place), watch SECONDS (the same view
+    /// kept as a log, one every second), show DEV REG… (adds registers, e.g. `show 1
+    /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
     /// sent. drive, steer, lift and turn are checked against the library's limits (steer
     /// and lift: the calibration less 10°); `write` only against the register's range, as
-    /// the original library's own register writes are.
+    /// the original library checks its own register writes. The rover stops when the
+    /// script ends (closing the port reboots it), so end with `wait` for a demand to act.
     Run(cmd::run::Args),
 }
 

@@ -130,8 +130,9 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// `reset` line (every board is in its boot exception after the port opens, so nothing
 /// acts on a demand until a reset), a demand before the first `reset` (a board in
 /// exception replaces its demands, reference §6.4: that one is lost), or demands with no
-/// `calibrate` line (the gains stay 0, so nothing moves). A demand before the calibration
-/// but after the reset is kept and acts once the gains arrive.
+/// `calibrate` line (the gains stay 0, so nothing moves), or a last demand with no `wait`
+/// or `watch` after it (the script's end reboots the rover at once). A demand before the
+/// calibration but after the reset is kept and acts once the gains arrive.
 pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> &str {
         l.text.split_whitespace().next().unwrap_or("")
@@ -164,6 +165,24 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
              nothing will move",
             demand.number
         ));
+    }
+    // The script's end closes the port, which reboots the rover: a last demand with no
+    // wait after it has no time to act.
+    if let Some(last) = lines
+        .iter()
+        .rev()
+        .find(|l| matches!(first_word(l), "drive" | "steer" | "turn" | "lift"))
+    {
+        let waits = lines.iter().any(|l| {
+            l.number > last.number && l.actions.iter().any(|a| matches!(a, Action::Live { .. }))
+        });
+        if !waits {
+            notes.push(format!(
+                "line {} sends a demand and no `wait` follows it: the script ends at once, and \
+                 closing the port reboots the rover, which stops it; put `wait SECONDS` after it",
+                last.number
+            ));
+        }
     }
     notes
 }
@@ -439,7 +458,16 @@ mod tests {
                  nothing will move",
             ]
         );
-        assert_eq!(notes("reset\nturn 10").len(), 1);
+        assert_eq!(notes("reset\nturn 10\nwait 1").len(), 1);
+        // A last demand with no wait after it: the end of the script stops the rover.
+        assert_eq!(
+            notes("calibrate\nreset\ndrive all 100\nwait 1\nsteer all 20\nsay bye"),
+            [
+                "line 5 sends a demand and no `wait` follows it: the script ends at once, and \
+                 closing the port reboots the rover, which stops it; put `wait SECONDS` after it"
+            ]
+        );
+        assert!(notes("calibrate\nreset\nsteer all 20\nwatch 2\nsay bye").is_empty());
         // A demand before the reset is replaced by the board: lost.
         assert_eq!(
             notes("drive 1 100\ncalibrate\nreset\nwait 1"),
