@@ -66,10 +66,10 @@ struct RunArgs {
     /// The bus's lock-step quantum, µs of emulated time.
     #[arg(long, value_name = "US", default_value_t = twin::DEFAULT_QUANTUM_US)]
     quantum_us: u64,
-    /// Threads the chips run on (1: all on one thread) [default: the available parallelism,
-    /// at most 4].
-    #[arg(long, value_name = "N")]
-    threads: Option<usize>,
+    /// Threads the chips run on, 1..=10 (1: all on one thread) [default: the available
+    /// parallelism, at most 4].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=10))]
+    threads: Option<u8>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -184,7 +184,10 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let config = Config {
         firmware_dir: args.firmware_dir.clone(),
         quantum_us: args.quantum_us.max(1),
-        threads: args.threads.unwrap_or_else(twin::default_threads).max(1),
+        threads: args
+            .threads
+            .map_or_else(twin::default_threads, usize::from)
+            .max(1),
         ..Config::default()
     };
     let mut rover = Rover::with_config(&config)?;
