@@ -64,6 +64,30 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Image, String> {
     Ok(image)
 }
 
+/// The initial bytes of an image's `.data`, as flash holds them for the startup code to
+/// copy: `__data_end − __data_start` bytes from `__data_load_start`.
+pub fn data_initial_bytes(elf: &[u8]) -> Result<Vec<u8>, String> {
+    let image = parse(elf)?;
+    let symbol = |name: &str| {
+        image
+            .symbols
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, v)| v)
+            .ok_or_else(|| format!("no {name} in the symbol table"))
+    };
+    let (start, end) = (symbol("__data_start")?, symbol("__data_end")?);
+    let load = symbol("__data_load_start")? as usize;
+    let len = end
+        .checked_sub(start)
+        .ok_or("__data_end lies below __data_start")? as usize;
+    image
+        .flash
+        .get(load..load + len)
+        .map(<[u8]>::to_vec)
+        .ok_or_else(|| format!("`.data`'s {len} bytes at {load:#x} lie past the flash image"))
+}
+
 fn load_segments(bytes: &[u8], image: &mut Image) -> Result<(), String> {
     let phoff = u32_at(bytes, 28)? as usize;
     let phentsize = usize::from(u16_at(bytes, 42)?);

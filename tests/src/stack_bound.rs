@@ -24,7 +24,6 @@
 use std::collections::HashMap;
 use std::path::Path;
 use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One function of the image.
 #[derive(Debug, Clone)]
@@ -129,10 +128,10 @@ fn register(s: &str) -> Option<u32> {
     s.trim().strip_prefix('r')?.parse().ok()
 }
 
-/// The sized symbols of `.text` in `avr-objdump -t` (`ADDR flags .text SIZE [.hidden]
-/// NAME`): the data objects (flag `O`, `objects`) or the code (every other sized symbol:
-/// functions, flag `F`, and the C library's assembly routines, which have no type).
-fn text_symbols(symbols: &str, objects: bool) -> Vec<Function> {
+/// The code symbols of `.text` in `avr-objdump -t` (`ADDR flags .text SIZE [.hidden]
+/// NAME`): every sized symbol but the data objects (flag `O`), so functions (flag `F`) and
+/// the C library's assembly routines, which have no type.
+fn code_symbols(symbols: &str) -> Vec<Function> {
     let mut out: Vec<Function> = symbols
         .lines()
         .filter_map(|l| {
@@ -140,7 +139,7 @@ fn text_symbols(symbols: &str, objects: bool) -> Vec<Function> {
             let section = t.iter().position(|&w| w == ".text")?;
             let is_object = t.get(1..section).is_some_and(|flags| flags.contains(&"O"));
             let size = hex(t.get(section + 1)?)?;
-            (is_object == objects && size > 0).then_some(())?;
+            (!is_object && size > 0).then_some(())?;
             let start = hex(t.first()?)?;
             Some(Function {
                 name: t.last()?.to_string(),
@@ -230,48 +229,35 @@ impl FrameTracker {
 }
 
 impl Program {
-    /// Reads an ELF image through `avr-objdump` and `avr-objcopy`.
+    /// Reads an ELF image: its symbols and code through `avr-objdump`, its `.data`
+    /// through the harness's ELF reader.
     pub fn of_elf(path: &Path) -> Result<Program, String> {
-        let run = |tool: &str, args: &[&str], out: Option<&Path>| -> Result<Vec<u8>, String> {
-            let mut cmd = Command::new(tool);
-            cmd.args(args).arg(path);
-            if let Some(out) = out {
-                cmd.arg(out);
-            }
-            let done = cmd.output().map_err(|e| {
-                format!("cannot run {tool} ({e}): install the AVR binutils (scripts/setup.sh)")
-            })?;
+        let objdump = |args: &[&str]| -> Result<String, String> {
+            let done = Command::new("avr-objdump")
+                .args(args)
+                .arg(path)
+                .output()
+                .map_err(|e| {
+                    format!(
+                        "cannot run avr-objdump ({e}): install the AVR binutils (scripts/setup.sh)"
+                    )
+                })?;
             if !done.status.success() {
                 return Err(format!(
-                    "{tool} {args:?} {} failed: {}",
+                    "avr-objdump {args:?} {} failed: {}",
                     path.display(),
                     String::from_utf8_lossy(&done.stderr)
                 ));
             }
-            Ok(done.stdout)
+            Ok(String::from_utf8_lossy(&done.stdout).into_owned())
         };
-        let text = |b: Vec<u8>| String::from_utf8_lossy(&b).into_owned();
-        let symbols = text(run("avr-objdump", &["-t"], None)?);
-        let disassembly = text(run("avr-objdump", &["-d", "--no-show-raw-insn"], None)?);
-        // A section's bytes, raw.
-        let bytes = |section: &str| -> Result<Vec<u8>, String> {
-            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
-            // One file per call: tests in one process read the same image at once.
-            static CALLS: AtomicUsize = AtomicUsize::new(0);
-            let call = CALLS.fetch_add(1, Ordering::Relaxed);
-            let out = std::env::temp_dir().join(format!(
-                "stack-bound-{}-{call}-{name}{section}.bin",
-                std::process::id()
-            ));
-            run("avr-objcopy", &["-O", "binary", "-j", section], Some(&out))?;
-            let b = std::fs::read(&out).map_err(|e| format!("{}: {e}", out.display()));
-            let _ = std::fs::remove_file(&out);
-            b
-        };
+        let symbols = objdump(&["-t"])?;
+        let disassembly = objdump(&["-d", "--no-show-raw-insn"])?;
         // Function pointers the image stores: `.data` (vtables live there on the AVR).
         // The flash tables (`shared::progmem`) hold plain numbers, read with `lpm`:
         // scanning them only finds look-alikes.
-        let stored = bytes(".data")?;
+        let elf = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let stored = harness::data_initial_bytes(&elf)?;
         Program::parse(&symbols, &disassembly, &stored)
     }
 
@@ -279,7 +265,7 @@ impl Program {
     /// (`-d --no-show-raw-insn`); every 16-bit word of `stored` (data the image keeps)
     /// that is a function's word address is taken as a pointer to it.
     pub fn parse(symbols: &str, disassembly: &str, stored: &[u8]) -> Result<Program, String> {
-        let functions = text_symbols(symbols, false);
+        let functions = code_symbols(symbols);
         if functions.is_empty() {
             return Err("no function symbols (F .text) in the symbol table".into());
         }

@@ -58,3 +58,25 @@ fn a_level_list_that_misses_a_task_is_refused() {
     let err = program.bound(LIFT_LIFT_LEVELS).unwrap_err();
     assert!(err.contains("update the list"), "{err}");
 }
+
+#[test]
+fn the_data_bytes_scanned_for_pointers_are_the_linkers() {
+    // `harness::data_initial_bytes` against the AVR binutils' own copy of `.data`.
+    for image in ["slave-drive", "slave-lift", "master"] {
+        let path = firmware_path(image);
+        let out = std::env::temp_dir().join(format!("data-{}-{image}.bin", std::process::id()));
+        let status = std::process::Command::new("avr-objcopy")
+            .args(["-O", "binary", "-j", ".data"])
+            .arg(&path)
+            .arg(&out)
+            .status()
+            .expect("avr-objcopy");
+        assert!(status.success());
+        let expected = std::fs::read(&out).expect("objcopy's output");
+        std::fs::remove_file(&out).expect("removed");
+        let elf = std::fs::read(&path).expect("the image");
+        let bytes = harness::data_initial_bytes(&elf).expect(".data");
+        assert!(!bytes.is_empty(), "{image}");
+        assert_eq!(bytes, expected, "{image}");
+    }
+}
