@@ -211,10 +211,10 @@ where
     if !args.iter().any(|a| a == "--json") {
         return None;
     }
-    let commands = ["write", "read", "readset", "watch", "run"];
+    let cli = <Cli as clap::CommandFactory>::command();
     let command = args
         .iter()
-        .find(|a| commands.contains(&a.as_str()))
+        .find(|a| cli.find_subcommand(a.as_str()).is_some())
         .map_or("", String::as_str);
     let rendered = error.render().to_string();
     let first = rendered.lines().next().unwrap_or_default();

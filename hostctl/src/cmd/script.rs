@@ -137,11 +137,11 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> &str {
         l.text.split_whitespace().next().unwrap_or("")
     }
+    fn is_demand(l: &&Line) -> bool {
+        matches!(first_word(l), "drive" | "steer" | "turn" | "lift")
+    }
     let mut notes = hard_reset_notes(lines);
-    let Some(demand) = lines
-        .iter()
-        .find(|l| matches!(first_word(l), "drive" | "steer" | "turn" | "lift"))
-    else {
+    let Some(demand) = lines.iter().find(is_demand) else {
         return notes;
     };
     let has = |word: &str| lines.iter().any(|l| first_word(l) == word);
@@ -168,11 +168,7 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
     }
     // The script's end closes the port, which reboots the rover: a last demand with no
     // wait after it has no time to act.
-    if let Some(last) = lines
-        .iter()
-        .rev()
-        .find(|l| matches!(first_word(l), "drive" | "steer" | "turn" | "lift"))
-    {
+    if let Some(last) = lines.iter().rev().find(is_demand) {
         let waits = lines.iter().any(|l| {
             l.number > last.number && l.actions.iter().any(|a| matches!(a, Action::Live { .. }))
         });
