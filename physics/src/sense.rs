@@ -50,6 +50,11 @@ impl CurrentSense {
         self.offset_a + self.spike.map_or(0.0, |s| s.amps)
     }
 
+    /// The spike running now, as (amperes, seconds left); None when there is none.
+    pub fn spike(&self) -> Option<(f64, f64)> {
+        self.spike.map(|s| (s.amps, s.left_s))
+    }
+
     /// Lets `dt_s` seconds pass: a spike ends when its time is up.
     pub fn advance(&mut self, dt_s: f64) {
         if let Some(spike) = &mut self.spike {
@@ -83,12 +88,17 @@ mod tests {
     #[test]
     fn a_spike_lasts_its_duration() {
         let mut s = CurrentSense::new();
+        assert_eq!(s.spike(), None);
         s.inject_spike(4.0, 0.010);
         assert_eq!(adc_reading(s.mv(0.5)), 450);
         s.advance(0.006);
         assert_eq!(adc_reading(s.mv(0.5)), 450);
+        let (amps, left_s) = s.spike().expect("still running");
+        assert_eq!(amps, 4.0);
+        assert!((left_s - 0.004).abs() < 1e-12, "{left_s} s left");
         s.advance(0.006);
         assert_eq!(adc_reading(s.mv(0.5)), 50);
+        assert_eq!(s.spike(), None, "over");
     }
 
     #[test]

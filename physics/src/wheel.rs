@@ -184,6 +184,16 @@ impl SlaveBoardModel {
         }
     }
 
+    /// One motor's current-sense channel, to see what is injected.
+    pub fn sense(&self, motor: Motor) -> &CurrentSense {
+        match (self, motor) {
+            (SlaveBoardModel::Ds(b), Motor::M1) => &b.drive_sense,
+            (SlaveBoardModel::Ds(b), Motor::M2) => &b.steer_sense,
+            (SlaveBoardModel::Ll(b), Motor::M1) => &b.one_sense,
+            (SlaveBoardModel::Ll(b), Motor::M2) => &b.two_sense,
+        }
+    }
+
     /// One motor's current-sense channel, to inject spikes.
     pub fn sense_mut(&mut self, motor: Motor) -> &mut CurrentSense {
         match (self, motor) {

@@ -423,3 +423,61 @@ fn from_a_slave_fault_to_every_motor_stopped() {
         "still turning: {speeds:?}"
     );
 }
+
+/// The line of `twin inject status` that starts with `label`.
+fn status_line(r: &mut twin::Rover, label: &str) -> String {
+    let status = twin::command::Command::Status.apply(r).unwrap();
+    status
+        .lines()
+        .find(|l| l.starts_with(label))
+        .unwrap_or_else(|| panic!("no `{label}` line in:\n{status}"))
+        .to_owned()
+}
+
+#[test]
+fn the_status_lists_running_spikes_and_what_each_sensor_measures() {
+    let mut r = rover();
+    let apply = |r: &mut twin::Rover, line: &str| {
+        twin::command::Command::parse(line)
+            .unwrap()
+            .apply(r)
+            .unwrap()
+    };
+    assert_eq!(
+        status_line(&mut r, "current spikes"),
+        "current spikes: none"
+    );
+    assert_eq!(
+        status_line(&mut r, "temperatures"),
+        "temperatures °C (ambient, then controllers 1..9): \
+         20.0 20.5 21.0 21.5 22.0 22.5 23.0 23.5 24.0 24.5"
+    );
+    assert_eq!(
+        apply(&mut r, "spike 2 steer 3.5 20"),
+        "wheel 2 steer: +3.5 A for 20 ms"
+    );
+    apply(&mut r, "spike 5 lift 1.25 40");
+    apply(&mut r, "temp 4 31.5");
+    apply(&mut r, "temp 0 -60");
+    assert_eq!(
+        status_line(&mut r, "current spikes"),
+        "current spikes: wheel 2 steer +3.5 A, 20.0 ms left, wheel 5 lift +1.25 A, 40.0 ms left"
+    );
+    // Set values show; one below the sensor's −55 °C shows as the sensor reads it.
+    assert_eq!(
+        status_line(&mut r, "temperatures"),
+        "temperatures °C (ambient, then controllers 1..9): \
+         -55.0 20.5 21.0 21.5 31.5 22.5 23.0 23.5 24.0 24.5"
+    );
+    r.run_us(25_000).unwrap();
+    let line = status_line(&mut r, "current spikes");
+    assert!(
+        line.starts_with("current spikes: wheel 5 lift +1.25 A, 1") && line.ends_with(" ms left"),
+        "the steer spike is over, the lift one has about 15 ms left: {line}"
+    );
+    r.run_us(20_000).unwrap();
+    assert_eq!(
+        status_line(&mut r, "current spikes"),
+        "current spikes: none"
+    );
+}

@@ -6,7 +6,7 @@
 //! | `stall W [drive\|steer\|lift] on\|off` | Hold wheel W's motor still (drive if not named), or let it go |
 //! | `cut N` / `restore N` | Take controller N off the I²C bus / put it back |
 //! | `reboot N` | Reset controller N, as a brown-out or its watchdog would: back in its boot state |
-//! | `spike W drive\|steer\|lift AMPS MS` | Add AMPS to that motor's sensed current for MS ms |
+//! | `spike W drive\|steer\|lift AMPS MS` | Add AMPS (up to 10.24) to that motor's sensed current for MS ms (up to 60 s) |
 //! | `sensor I remove\|restore` | Unplug temperature sensor I (0 ambient, 1..9) / plug it back |
 //! | `temp I CELSIUS` | Set what sensor I measures (0.5 °C steps) |
 //! | `drop-serial N [to-master\|to-host]` | Lose the next N bytes on the serial line (to the master if not named) |
@@ -96,13 +96,15 @@ pub enum CommandError {
     /// The words after the command do not fit it.
     #[error("usage: {0}")]
     Usage(&'static str),
-    /// A number that must not be negative was.
-    #[error("{what} `{given}` is negative; give 0 or more")]
-    Negative {
+    /// A number lies outside what the command can do.
+    #[error("{what} `{given}` is out of range; give {allowed}")]
+    OutOfRange {
         /// What the number stands for.
         what: &'static str,
         /// The text given.
         given: String,
+        /// The range accepted, in words.
+        allowed: &'static str,
     },
     /// A command that would change nothing, such as `drop-serial 0`.
     #[error("{0}")]
@@ -126,7 +128,7 @@ const STALL: &str = "stall W [drive|steer|lift] on|off   (W = wheel 1..6)";
 const CUT: &str = "cut N   (N = controller 1..9)";
 const RESTORE: &str = "restore N   (N = controller 1..9)";
 const REBOOT: &str = "reboot N   (N = controller 1..9)";
-const SPIKE: &str = "spike W drive|steer|lift AMPS MS";
+const SPIKE: &str = "spike W drive|steer|lift AMPS MS   (0 < AMPS <= 10.24, 0 < MS <= 60000)";
 const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
 const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9)";
 const DROP: &str = "drop-serial N [to-master|to-host]";
@@ -171,17 +173,30 @@ fn finite(word: &str, what: &'static str) -> Result<f64, CommandError> {
     }
 }
 
-/// A finite number of 0 or more (a spike adds current, for a while).
-fn non_negative(word: &str, what: &'static str, name: &'static str) -> Result<f64, CommandError> {
+/// The largest spike the current sense can show: its reading saturates at the ADC's
+/// reference (5 V at 488.3 mV/A), so a larger one would read the same.
+pub const SPIKE_MAX_A: f64 = 10.24;
+/// The longest spike, ms: a spike is a transient; a lasting fault is `stall`.
+pub const SPIKE_MAX_MS: f64 = 60_000.0;
+
+/// A number in `0 < x <= max`: a spike of no current or no time would change nothing.
+fn positive_up_to(
+    word: &str,
+    what: &'static str,
+    name: &'static str,
+    max: f64,
+    allowed: &'static str,
+) -> Result<f64, CommandError> {
     let v = finite(word, what)?;
-    if v < 0.0 {
-        return Err(CommandError::Negative {
+    if v > 0.0 && v <= max {
+        Ok(v)
+    } else {
+        Err(CommandError::OutOfRange {
             what: name,
             given: word.to_owned(),
-        });
+            allowed,
+        })
     }
-    // -0 parses as a negative zero; show it as 0.
-    Ok(v.abs())
 }
 
 /// Bytes for `drop-serial` to lose: 0 would lose none, so it is refused rather than
@@ -223,8 +238,20 @@ impl Command {
             ("spike", [w, axis, amps, ms]) => Ok(Command::Spike {
                 wheel: wheel(w)?,
                 axis: Axis::parse(axis).ok_or(CommandError::Usage(SPIKE))?,
-                amps: non_negative(amps, "a current in amperes", "the spike current (A)")?,
-                ms: non_negative(ms, "a duration in milliseconds", "the spike duration (ms)")?,
+                amps: positive_up_to(
+                    amps,
+                    "a current in amperes",
+                    "the spike current (A)",
+                    SPIKE_MAX_A,
+                    "more than 0 and at most 10.24 A (the current sense reads no more)",
+                )?,
+                ms: positive_up_to(
+                    ms,
+                    "a duration in milliseconds",
+                    "the spike duration (ms)",
+                    SPIKE_MAX_MS,
+                    "more than 0 and at most 60000 ms (for a lasting fault, `stall`)",
+                )?,
             }),
             ("spike", _) => Err(CommandError::Usage(SPIKE)),
             ("sensor", [i, what]) => Ok(Command::Sensor {
@@ -455,21 +482,39 @@ mod tests {
             e("spike 1 drive inf 3").as_deref(),
             Some("`inf` is not a current in amperes")
         );
+        // A spike must change something and stay within what the sense can show.
+        let amps = "more than 0 and at most 10.24 A (the current sense reads no more)";
+        let ms = "more than 0 and at most 60000 ms (for a lasting fault, `stall`)";
+        for (line, what, given, allowed) in [
+            ("spike 1 drive -5 10", "spike current (A)", "-5", amps),
+            ("spike 1 drive 0 10", "spike current (A)", "0", amps),
+            ("spike 1 drive -0 10", "spike current (A)", "-0", amps),
+            ("spike 1 drive 10.25 10", "spike current (A)", "10.25", amps),
+            ("spike 1 drive 5 -10", "spike duration (ms)", "-10", ms),
+            ("spike 1 drive 5 0", "spike duration (ms)", "0", ms),
+            (
+                "spike 1 drive 5 60000.5",
+                "spike duration (ms)",
+                "60000.5",
+                ms,
+            ),
+            ("spike 1 drive 5 1e300", "spike duration (ms)", "1e300", ms),
+        ] {
+            assert_eq!(
+                e(line),
+                Some(format!(
+                    "the {what} `{given}` is out of range; give {allowed}"
+                )),
+                "{line}"
+            );
+        }
         assert_eq!(
-            e("spike 1 drive -5 10").as_deref(),
-            Some("the spike current (A) `-5` is negative; give 0 or more")
-        );
-        assert_eq!(
-            e("spike 1 drive 5 -10").as_deref(),
-            Some("the spike duration (ms) `-10` is negative; give 0 or more")
-        );
-        assert_eq!(
-            Command::parse("spike 1 drive -0 0"),
+            Command::parse("spike 6 lift 10.24 60000"),
             Ok(Command::Spike {
-                wheel: 1,
-                axis: Axis::Drive,
-                amps: 0.0,
-                ms: 0.0
+                wheel: 6,
+                axis: Axis::Lift,
+                amps: 10.24,
+                ms: 60_000.0
             })
         );
         assert_eq!(

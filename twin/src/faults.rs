@@ -1,9 +1,9 @@
 //! Fault injection on the [`Rover`]: stalled motors, current spikes, controllers cut off
 //! the bus or rebooted, lost serial bytes, unplugged temperature sensors, and the RC receiver.
 
-use crate::rover::{RC_CHANNELS, SENSORS};
+use crate::rover::{RC_CHANNELS, SENSORS, SENSOR_COUNT};
 use crate::serial::Direction;
-use crate::wiring::{self, Axis};
+use crate::wiring::{self, Axis, WHEELS};
 use crate::{Rover, TwinError};
 
 impl Rover {
@@ -80,12 +80,32 @@ impl Rover {
         Ok(())
     }
 
-    /// Sets the temperature sensor `index` measures, in 0.5 °C units.
+    /// Sets the temperature sensor `index` measures, in 0.5 °C units (clamped to the
+    /// sensor's −55..=125 °C).
     pub fn set_temperature(&mut self, index: u8, half_degrees: i16) -> Result<(), TwinError> {
         check_sensor(index)?;
+        let half_degrees = half_degrees.clamp(-110, 250);
         self.sensors
             .set_half_degrees(usize::from(index), half_degrees);
+        self.temperatures[usize::from(index)] = half_degrees;
         Ok(())
+    }
+
+    /// What each temperature sensor measures (0 ambient, then controllers 1..9), 0.5 °C units.
+    pub fn temperatures(&self) -> [i16; SENSOR_COUNT] {
+        self.temperatures
+    }
+
+    /// The current spikes still running, as (wheel, axis, amperes, ms left).
+    pub fn spikes(&self) -> Vec<(u8, Axis, f64, f64)> {
+        WHEELS
+            .flat_map(|w| Axis::ALL.map(|a| (w, a)))
+            .filter_map(|(w, a)| {
+                let place = wiring::place(w, a)?;
+                let (amps, left_s) = self.plant.model(place.chip())?.sense(place.motor).spike()?;
+                Some((w, a, amps, left_s * 1000.0))
+            })
+            .collect()
     }
 
     /// The sensors taken off the line.

@@ -38,7 +38,25 @@ pub fn status(rover: &mut Rover) -> String {
         .collect();
     let _ = writeln!(out, "stalled: {}", list(stalled));
     let _ = writeln!(out, "cut off the bus: {}", list(cut));
+    let spikes = rover
+        .spikes()
+        .into_iter()
+        .map(|(w, a, amps, left_ms)| {
+            format!("wheel {w} {} +{amps} A, {left_ms:.1} ms left", a.name())
+        })
+        .collect();
+    let _ = writeln!(out, "current spikes: {}", list(spikes));
     let _ = writeln!(out, "sensors removed: {}", list(removed));
+    let temps: Vec<String> = rover
+        .temperatures()
+        .iter()
+        .map(|&h| format!("{:.1}", f64::from(h) / 2.0))
+        .collect();
+    let _ = writeln!(
+        out,
+        "temperatures °C (ambient, then controllers 1..9): {}",
+        temps.join(" ")
+    );
     let line = rover.serial();
     let _ = writeln!(
         out,

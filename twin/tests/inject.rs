@@ -30,7 +30,8 @@ fn a_negative_spike_is_refused_before_any_twin_is_asked() {
     assert_eq!(out.stdout, b"");
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "twin: the spike current (A) `-5` is negative; give 0 or more\n"
+        "twin: the spike current (A) `-5` is out of range; give more than 0 and at most 10.24 A \
+         (the current sense reads no more)\n"
     );
     let out = inject(&control, &["stall", "7", "on"]);
     assert_eq!(out.status.code(), Some(2));
