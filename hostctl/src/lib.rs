@@ -20,6 +20,7 @@ pub mod banner;
 pub mod cli;
 pub mod cmd;
 pub mod error;
+pub mod exception;
 #[cfg(test)]
 mod fake;
 pub mod json;

@@ -406,6 +406,15 @@ fn exception_data_is_read_in_words() {
     );
     let o = hostctl("read 0 EXCEPTIONDATA", &[&[0x01][..], &[0x00, 0x00]]);
     assert!(o.out.ends_with(": no exception\n"), "{}", o.out);
+    // In JSON the value comes taken apart too, for a program to branch on.
+    let o = hostctl("--json read 1 EXCEPTIONDATA", &[&[0x01][..], &[0x02, 0x05]]);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"read\",\"device\":1,\"board\":\"DS\",\"id\":5,\
+         \"register\":\"REG_EXCEPTIONDATA\",\"raw\":1282,\"value\":1282,\"unit\":\"\",\
+         \"exception\":{\"type\":2,\"name\":\"boot\",\"motor\":5,\
+         \"text\":\"boot, motor 5 (none) (the last exception)\"}}\n"
+    );
 }
 
 #[test]
@@ -456,7 +465,9 @@ fn read_sizes_the_reply_from_the_device_table() {
     assert_eq!(
         o.out,
         "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":11,\
-         \"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\"}\n"
+         \"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
+         \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
+         \"text\":\"overcurrent on controller 4, motor 1\"}}\n"
     );
 }
 
@@ -747,7 +758,9 @@ fn watch_standard_sets_1_and_2_match_the_library() {
          {\"id\":2,\"register\":\"REGMASTER_TEMP1\",\"raw\":0,\"value\":null,\"unit\":\"degC\",\"read\":false},"
     ), "{line}");
     assert!(line.ends_with(
-        "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\"}]}"
+        "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
+         \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
+         \"text\":\"overcurrent on controller 4, motor 1\"}}]}"
     ), "{line}");
     assert_eq!(o.out.lines().count(), 1);
 

@@ -11,6 +11,7 @@ use shared::regs::{id, Register};
 use super::read::SCRATCH_SET;
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
+use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
@@ -18,7 +19,8 @@ use crate::resolve::Target;
 
 /// `object` with register `reg`'s members for `--json`: id, name, raw, value in units and
 /// unit, and `read` when the register is a master temperature (`read` its TEMPSREAD bit):
-/// a temperature not read yet holds 0.0 °C, which is no value, so its value is `null`.
+/// a temperature not read yet holds 0.0 °C, which is no value, so its value is `null`;
+/// an EXCEPTIONDATA value also comes taken apart, as `exception` ([`Exception::json`]).
 pub fn register_json(
     object: json::Object,
     reg: &Register,
@@ -35,8 +37,12 @@ pub fn register_json(
         object.num("value", mapping::unmap(raw, reg))
     }
     .str("unit", reg.unit);
-    match read {
+    let object = match read {
         Some(read) => object.bool("read", read),
+        None => object,
+    };
+    match Exception::of(reg, raw) {
+        Some(e) => object.raw("exception", &e.json()),
         None => object,
     }
 }

@@ -9,6 +9,7 @@ use shared::regs::{id, Register};
 
 use super::{fresh, Frame, SetRead};
 use crate::error::HostError;
+use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
@@ -113,41 +114,11 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
     } else if boot_end {
         format!("{text}\n{}", fresh::BOOT_CALIBRATION_END)
-    } else if let Some(words) = exception_words(target, reg, raw) {
-        format!("{text}: {words}")
+    } else if let Some(e) = Exception::of(reg, raw) {
+        format!("{text}: {}", e.words())
     } else if let Some(note) = resolve::use_note(reg, raw) {
         format!("{text}\nnote: {note}")
     } else {
         text
     }
-}
-
-/// An EXCEPTIONDATA value in words: a slave's type and motor (reference §6.2), or the
-/// master's type, controller and motor.
-fn exception_words(target: Target, reg: &Register, raw: u16) -> Option<String> {
-    let motor = |m: u16| match m {
-        0 | 1 => format!("motor {m}"),
-        _ => format!("motor {m} (none)"),
-    };
-    if target.device == 0 && reg.id == id::REGMASTER_EXCEPTIONDATA {
-        let (kind, slave, m) = ((raw & 0xff) as u8, (raw >> 8) & 0xf, raw >> 12);
-        return Some(match (raw, slave) {
-            (0, _) => "no exception".to_owned(),
-            (_, 0) => super::live::type_name(kind),
-            _ => format!(
-                "{} on controller {slave}, {}",
-                super::live::type_name(kind),
-                motor(m)
-            ),
-        });
-    }
-    if target.device != 0 && reg.id == id::REG_EXCEPTIONDATA {
-        let (kind, m) = ((raw & 0xff) as u8, raw >> 8);
-        return Some(format!(
-            "{}, {} (the last exception)",
-            super::live::type_name(kind),
-            motor(m)
-        ));
-    }
-    None
 }
