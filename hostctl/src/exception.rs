@@ -7,6 +7,14 @@ use shared::regs::{id, Register, COMMON, MASTER};
 
 use crate::json;
 
+/// An exception type's name ("overcurrent"), or "type N" for a code no board raises.
+pub fn type_name(code: u8) -> String {
+    match ExceptionType::from_code(code) {
+        Some(t) => t.name().to_owned(),
+        None => format!("type {code}"),
+    }
+}
+
 /// One EXCEPTIONDATA value, taken apart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Exception {
@@ -45,12 +53,9 @@ impl Exception {
         self.controller == Some(0) && self.code == 0 && self.motor == 0
     }
 
-    /// The type's name ("overcurrent"), or "type N" for a code no board raises.
+    /// The type's name ([`type_name`]).
     pub fn type_name(&self) -> String {
-        match ExceptionType::from_code(self.code) {
-            Some(t) => t.name().to_owned(),
-            None => format!("type {}", self.code),
-        }
+        type_name(self.code)
     }
 
     fn motor_words(&self) -> String {

@@ -35,6 +35,11 @@ pub const DRAIN_TIMEOUT: Duration = Duration::from_millis(50);
 /// master has just hard-reset are back on the bus (reference §4.1, §13).
 pub const SETTLE: Duration = Duration::from_secs(2);
 
+/// How many replies in a row a view may lose on the serial line and go on
+/// ([`Link::forgive`]): one lost byte costs one reply, while a line that loses every reply
+/// is broken, and the view stops with the error rather than show nothing as if live.
+pub const MAX_LOST_IN_A_ROW: u32 = 3;
+
 /// The most stray bytes one check reads.
 const STRAY_MAX: usize = 1024;
 
@@ -54,6 +59,8 @@ pub struct Link<P: Port> {
     /// A bit per device (0..15) whose last read the master could not relay because the
     /// controller did not answer on I²C ([`Link::note_silent`]).
     silent: u16,
+    /// Replies lost on the serial line since the last whole one ([`Link::forgive`]).
+    lost_in_a_row: u32,
 }
 
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
@@ -91,11 +98,7 @@ impl<P: Port> Link<P> {
         }
         std::thread::sleep(settle);
         port.set_timeout(REPLY_TIMEOUT)?;
-        Ok(Self {
-            port,
-            errors_seen: None,
-            silent: 0,
-        })
+        Ok(Self::ready(port))
     }
 
     /// Wraps a port that is already past the banner (tests, reconnects).
@@ -104,6 +107,7 @@ impl<P: Port> Link<P> {
             port,
             errors_seen: None,
             silent: 0,
+            lost_in_a_row: 0,
         }
     }
 
@@ -136,6 +140,32 @@ impl<P: Port> Link<P> {
             SILENT_REREAD_TIMEOUT
         } else {
             REPLY_TIMEOUT
+        }
+    }
+
+    /// Whether a view may go on past `e`, a failed read: a reply lost or garbled on the
+    /// serial line while the master still answers (it answered the probe that followed the
+    /// timeout, or the reply came whole with bytes after it), at most
+    /// [`MAX_LOST_IN_A_ROW`] replies in a row. The master has dropped a frame that lost a
+    /// byte (its inter-byte timeout) and the probe drained a short reply, so the next
+    /// frame lines up. A master that does not answer, or rebooted, is not forgiven.
+    pub fn forgive(&mut self, e: &HostError) -> bool {
+        let lost = match e {
+            HostError::Timeout {
+                master: MasterSays::Answered { .. },
+                ..
+            } => true,
+            HostError::OutOfStep { .. } => {
+                self.drain();
+                true
+            }
+            _ => false,
+        };
+        if lost && self.lost_in_a_row < MAX_LOST_IN_A_ROW {
+            self.lost_in_a_row += 1;
+            true
+        } else {
+            false
         }
     }
 
@@ -195,6 +225,7 @@ impl<P: Port> Link<P> {
                 extra: extra.len(),
             });
         }
+        self.lost_in_a_row = 0;
         Ok(reply)
     }
 

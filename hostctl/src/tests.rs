@@ -894,33 +894,114 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
 fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     // Round 1: controller 6 off the bus (NoAnswer, count 1). Round 2: controller 3's reply
     // is lost on the serial line; the master's last error is still that NoAnswer, count 1:
-    // an old error, so this is a timeout, not "no answer".
+    // an old error, so this is a reply lost, not "no answer", and the watch goes on.
     let replies = [
         &SIX_SILENT_IN_ROUND_1[..],
-        &[&[], &[0x02], &[0x0c, 0x01, 0x00]],
+        &[
+            &[],
+            &[0x02],
+            &[0x0c, 0x01, 0x00],
+            &[0x05, 0x00],
+            &[0x06, 0x00],
+        ],
     ]
     .concat();
-    // Each watch must end with controller 3's timeout.
-    let timed_out = |o: &Outcome| {
-        assert!(
-            matches!(o.result, Err(HostError::Timeout { device: 3, .. })),
-            "{:?}",
-            o.result
-        );
-    };
     let o = hostctl(
         "watch --readset 1 --count 2 --interval-ms 0 TIMER",
         &replies,
     );
-    timed_out(&o);
-    assert!(o.out.contains("\n6    no answer\n"), "{}", o.out);
-    assert!(!o.out.contains("round 2"), "{}", o.out);
+    o.result.unwrap();
+    let (round1, round2) = o.out.split_once("round 2").expect("a second round");
+    assert!(round1.contains("\n6    no answer\n"), "{}", o.out);
+    let round2 = collapse(round2);
+    assert!(round2.contains("\n3 reply lost\n6 5\n9 6\n"), "{round2}");
+    assert!(!round2.contains("no answer"), "{}", o.out);
     // A new error of another kind (the request arrived truncated, code 8) is no "no answer".
-    let replies: [&[u8]; 4] = [&[0x01], &[], &[0x02], &[0x08, 0x01, 0x00]];
-    timed_out(&hostctl(
+    let replies: [&[u8]; 6] = [
+        &[0x01],
+        &[],
+        &[0x02],
+        &[0x08, 0x01, 0x00],
+        &[0x05, 0x00],
+        &[0x06, 0x00],
+    ];
+    let o = hostctl(
         "watch --readset 1 --count 1 --interval-ms 0 TIMER",
         &replies,
-    ));
+    );
+    o.result.unwrap();
+    assert!(o.out.contains("\n3    reply lost\n"), "{}", o.out);
+    assert!(
+        o.out.ends_with(
+            "reply lost: the serial line lost or garbled the reply of device 3 this round (the \
+             master still answers); read again next round; the view stops if 4 replies in a row \
+             are lost\n"
+        ),
+        "{}",
+        o.out
+    );
+    let o = hostctl(
+        "--json watch --readset 1 --count 1 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    assert_eq!(
+        o.out.lines().next(),
+        Some("{\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":null,\"reply_lost\":true}")
+    );
+}
+
+/// `text` with each line's runs of blanks made one space (table columns whatever their width).
+fn collapse(text: &str) -> String {
+    text.lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// One read of controller 3's TIMER whose reply the line loses: no reply, then the probe
+/// (the master answers: its last error a truncated frame, error count `count`).
+fn lost_read(count: u8) -> [&'static [u8]; 3] {
+    const COUNTS: [[u8; 3]; 8] = [
+        [8, 1, 0],
+        [8, 2, 0],
+        [8, 3, 0],
+        [8, 4, 0],
+        [8, 5, 0],
+        [8, 6, 0],
+        [8, 7, 0],
+        [8, 8, 0],
+    ];
+    [&[], &[0x02], &COUNTS[usize::from(count - 1)]]
+}
+
+#[test]
+fn a_watch_stops_when_the_line_loses_four_replies_in_a_row() {
+    let args = "watch --readset 1 --device 3 --count 8 --interval-ms 0 TIMER";
+    // Three lost, one whole, three lost: each run of losses is forgiven.
+    let mut replies: Vec<&[u8]> = vec![&[0x01]];
+    (1..=3).for_each(|n| replies.extend(lost_read(n)));
+    replies.push(&[0x2a, 0x00]);
+    (4..=6).for_each(|n| replies.extend(lost_read(n)));
+    replies.push(&[0x2b, 0x00]);
+    let o = hostctl(args, &replies);
+    o.result.unwrap();
+    let out = collapse(&o.out);
+    assert_eq!(out.matches("\n3 reply lost\n").count(), 6, "{out}");
+    assert!(out.contains("round 4\ndev TIMER\nms\n3 42\n"), "{out}");
+    assert!(out.contains("round 8\ndev TIMER\nms\n3 43\n"), "{out}");
+    // Four in a row: the fourth is the error, with the master's words; three rounds shown.
+    let mut replies: Vec<&[u8]> = vec![&[0x01]];
+    (1..=4).for_each(|n| replies.extend(lost_read(n)));
+    let o = hostctl(args, &replies);
+    assert!(
+        matches!(o.result, Err(HostError::Timeout { device: 3, .. })),
+        "{:?}",
+        o.result
+    );
+    assert!(o.out.contains("round 3"), "{}", o.out);
+    assert!(!o.out.contains("round 4"), "{}", o.out);
 }
 
 #[test]

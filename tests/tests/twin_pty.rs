@@ -265,3 +265,70 @@ fn a_second_open_of_a_port_in_use_resets_nothing() {
     drop(serial);
     twin.finish();
 }
+
+#[test]
+fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
+    use hostctl::cmd::watch::{self, Args};
+    use hostctl::cmd::Reading;
+    let dir = std::env::temp_dir().join(format!("twin-pty-lost-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let link = dir.join("port");
+    let (_path, stop, thread) = start_twin(Some(link.clone()));
+    let control = twin::paths::control_of(&link);
+    let mut port = hostctl::link::open_serial(&link.display().to_string(), Duration::ZERO)
+        .expect("banner through the link");
+    // The master's standard set 2 (temperatures, EXCEPTIONDATA), with REGMASTER_TEMPSREAD
+    // read beside it through the scratch set, which each lost reply's probe overwrites.
+    let plan = watch::plan(&Args {
+        readset: "2".into(),
+        device: None,
+        count: Some(5),
+        interval_ms: 0,
+        registers: Vec::new(),
+    })
+    .unwrap();
+    let mut seen = Vec::new();
+    watch::run(&plan, &mut port, &mut |round| {
+        let row = &round.rows[0];
+        seen.push(match &row.reading {
+            Reading::Values(raws) => format!(
+                "EXCEPTIONDATA {:#06x}, TEMPSREAD read: {}",
+                raws[10],
+                row.temps_read.is_some()
+            ),
+            other => format!("{other:?}"),
+        });
+        // After round 1 the line loses a byte of the next reply; after round 3, a byte of
+        // the next read frame.
+        let fault = match round.number {
+            1 => Some("drop-serial 1 to-host"),
+            3 => Some("drop-serial 1 to-master"),
+            _ => None,
+        };
+        if let Some(fault) = fault {
+            twin::control::send(&control, fault).expect("the twin takes the fault");
+        }
+        Ok(())
+    })
+    .expect("the watch goes on past single lost bytes");
+    assert_eq!(
+        seen,
+        [
+            "EXCEPTIONDATA 0x0002, TEMPSREAD read: true",
+            "Lost",
+            "EXCEPTIONDATA 0x0002, TEMPSREAD read: true",
+            "Lost",
+            "EXCEPTIONDATA 0x0002, TEMPSREAD read: true"
+        ],
+        "the master stays in its boot exception (type 2) throughout, and the scratch set \
+         holding TEMPSREAD is configured again after each probe"
+    );
+    let status = twin::control::send(&control, "status").unwrap();
+    assert!(
+        status.contains("serial bytes lost: 1 to master, 1 to host (0 and 0 pending)"),
+        "{status}"
+    );
+    stop.store(true, Ordering::SeqCst);
+    thread.join().unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}

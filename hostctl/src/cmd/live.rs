@@ -9,8 +9,9 @@ use shared::mapping;
 use shared::regs::{id, BoardKind};
 
 use super::pc::{device_of, Motor, Pairs, Pc, WHEELS};
-use super::{configure, set_frame, SetRead};
+use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
+use crate::exception::type_name;
 use crate::link::Link;
 use crate::port::Port;
 use crate::resolve::{self, Target};
@@ -42,6 +43,8 @@ pub struct Snapshot {
     rows: Vec<(u8, Vec<(u8, u16)>)>,
     /// The controllers that did not answer, in update() order.
     silent: Vec<u8>,
+    /// The devices whose reply the serial line lost, in update() order.
+    lost: Vec<u8>,
 }
 
 impl Snapshot {
@@ -50,6 +53,7 @@ impl Snapshot {
         Snapshot {
             rows,
             silent: Vec::new(),
+            lost: Vec::new(),
         }
     }
 
@@ -57,6 +61,12 @@ impl Snapshot {
     /// read: every value of theirs shows as "-").
     pub fn silent(&self) -> &[u8] {
         &self.silent
+    }
+
+    /// The devices whose reply the serial line lost this update (their values are not
+    /// read: every value of theirs shows as "-").
+    pub fn lost(&self) -> &[u8] {
+        &self.lost
     }
 
     /// The raw value of register `reg` of `device`, if it was read.
@@ -133,16 +143,18 @@ impl Poller {
     pub fn update<P: Port>(&self, link: &mut Link<P>) -> Result<Snapshot, HostError> {
         let mut rows = Vec::with_capacity(self.reads.len());
         let mut silent = Vec::new();
+        let mut lost = Vec::new();
         for read in &self.reads {
-            match read.run_or_silent(link)? {
-                Some(raws) => rows.push((
+            match read.read_for_view(link)? {
+                Reading::Values(raws) => rows.push((
                     read.target.device,
                     read.regs.iter().map(|r| r.id).zip(raws).collect(),
                 )),
-                None => silent.push(read.target.device),
+                Reading::NoAnswer => silent.push(read.target.device),
+                Reading::Lost => lost.push(read.target.device),
             }
         }
-        Ok(Snapshot { rows, silent })
+        Ok(Snapshot { rows, silent, lost })
     }
 }
 
@@ -236,14 +248,6 @@ fn in_boot(s: &Snapshot, device: u8) -> Option<bool> {
     Some(slave_exception(s, device).is_some_and(|(code, _)| code == ExceptionType::Boot as u8))
 }
 
-/// Words for an exception type code.
-pub(crate) fn type_name(code: u8) -> String {
-    match ExceptionType::from_code(code) {
-        Some(t) => t.name().to_owned(),
-        None => format!("type {code}"),
-    }
-}
-
 /// One wheel's exceptions column: its controllers that did not answer, then its motors'
 /// exceptions ("-": neither).
 pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
@@ -251,8 +255,15 @@ pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
     let mut words: Vec<String> = [Motor::Drive, Motor::Lift]
         .map(|m| device_of(wheel, m))
         .into_iter()
-        .filter(|d| s.silent.contains(d))
-        .map(|d| format!("controller {d}: no answer"))
+        .filter_map(|d| {
+            if s.silent.contains(&d) {
+                Some(format!("controller {d}: no answer"))
+            } else if s.lost.contains(&d) {
+                Some(format!("controller {d}: reply lost"))
+            } else {
+                None
+            }
+        })
         .collect();
     let exceptions = motor_exceptions(s, wheel);
     if exceptions != "-" || words.is_empty() {
@@ -445,6 +456,9 @@ pub fn view_lines(
     if !s.silent.is_empty() {
         lines.push(super::no_answer_legend(&s.silent));
     }
+    if !s.lost.is_empty() {
+        lines.push(super::reply_lost_legend(&s.lost));
+    }
     let left_out: Vec<String> = WHEELS
         .filter(|&w| !pc.pairs().has_wheel(w))
         .map(|w| w.to_string())
@@ -605,6 +619,45 @@ mod tests {
         let lines = view(&pc, &dropped);
         assert!(lines[3].starts_with("2            600 "), "{}", lines[3]);
         assert!(!lines.iter().any(|l| l.starts_with("(…)")));
+    }
+
+    #[test]
+    fn a_reply_the_line_lost_shows_as_lost_not_as_values_or_silence() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        // Controller 1's and the master's replies were lost this update.
+        let mut s = snapshot();
+        s.rows.retain(|(d, _)| *d != 1 && *d != 0);
+        s.lost = vec![1, 0];
+        let lines = view_lines(
+            &s,
+            &pc,
+            &Dropped::default(),
+            Duration::from_secs(2),
+            50,
+            25.0,
+        );
+        assert_eq!(
+            lines[2],
+            "1              -        ?          -       ?         -    20.0  controller 1: reply lost"
+        );
+        assert!(
+            lines.contains(
+                &"reply lost: the serial line lost or garbled the reply of devices 1, 0 this round \
+                  (the master still answers); read again next round; the view stops if 4 replies \
+                  in a row are lost"
+                    .to_owned()
+            ),
+            "{lines:#?}"
+        );
+        assert!(
+            !lines.iter().any(|l| l.contains("no answer")),
+            "a lost reply is no silent controller: {lines:#?}"
+        );
+        // A lost reply says nothing of a reboot: the calibration stands.
+        let mut dropped = Dropped::default();
+        dropped.note(&s, &pc);
+        assert!(dropped.calibrated(&pc, 1, Motor::Steer));
     }
 
     #[test]

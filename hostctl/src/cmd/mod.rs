@@ -129,44 +129,84 @@ impl SetRead {
         Ok(values.iter().map(|&(_, raw)| raw).collect())
     }
 
-    /// [`SetRead::run`] for a view that goes on when a controller drops off the bus:
-    /// `Ok(None)` when the master says the controller did not answer on I²C: the reply
-    /// stopped short, the master's last link error is NoAnswer, and its error count has
-    /// changed since the last probe, so that error is this read's and not an older one (the
-    /// master does not record which device an error was for, but this read is the only
-    /// frame since). The controller is read again next time, so one that comes back shows
-    /// again. Any other failure is an error.
+    /// [`SetRead::run`] for a view that goes on when a controller drops off the bus or the
+    /// serial line loses a reply.
+    ///
+    /// [`Reading::NoAnswer`] when the master says the controller did not answer on I²C: the
+    /// reply stopped short, the master's last link error is NoAnswer, and its error count
+    /// has changed since the last probe, so that error is this read's and not an older one
+    /// (the master does not record which device an error was for, but this read is the
+    /// only frame since). The controller is read again next time, so one that comes back
+    /// shows again.
     ///
     /// A controller that did not answer its last read is read with a shorter wait
     /// ([`Link::reply_timeout`]), so that a view with one off the bus goes on at a few
     /// rounds a second. If that shorter read fails for another cause than NoAnswer, the
     /// reply may just have been slow: it is read once more with the full wait.
-    pub fn run_or_silent<P: Port>(
-        &self,
-        link: &mut Link<P>,
-    ) -> Result<Option<Vec<u16>>, HostError> {
+    ///
+    /// [`Reading::Lost`] when the reply was lost on the serial line while the master still
+    /// answers ([`Link::forgive`], a few in a row at most). Any other failure is an error.
+    pub fn read_for_view<P: Port>(&self, link: &mut Link<P>) -> Result<Reading, HostError> {
         let device = self.target.device;
         let before = link.errors_seen();
         let quick = link.was_silent(device);
         match self.run_within(link, link.reply_timeout(device)) {
             Ok(values) => {
                 link.note_silent(device, false);
-                Ok(Some(values))
+                Ok(Reading::Values(values))
             }
             Err(HostError::Timeout {
                 master: MasterSays::Answered { code, count },
                 ..
             }) if device != 0 && code == LinkError::NoAnswer as u8 && before != Some(count) => {
                 link.note_silent(device, true);
-                Ok(None)
+                Ok(Reading::NoAnswer)
             }
             Err(HostError::Timeout { .. }) if quick => {
                 link.note_silent(device, false);
-                self.run_or_silent(link)
+                self.read_for_view(link)
             }
+            Err(e) if link.forgive(&e) => Ok(Reading::Lost),
             Err(e) => Err(e),
         }
     }
+}
+
+/// What one read of a view gave.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Reading {
+    /// The raw values, in set order.
+    Values(Vec<u16>),
+    /// The controller did not answer the master on the I²C bus.
+    NoAnswer,
+    /// The serial line lost or garbled the reply; the master still answers.
+    Lost,
+}
+
+impl Reading {
+    /// The values, if they were read.
+    pub fn values(&self) -> Option<&[u16]> {
+        match self {
+            Reading::Values(v) => Some(v),
+            Reading::NoAnswer | Reading::Lost => None,
+        }
+    }
+}
+
+/// The legend of devices whose reply the serial line lost this round.
+pub fn reply_lost_legend(devices: &[u8]) -> String {
+    let list: Vec<String> = devices.iter().map(u8::to_string).collect();
+    let whose = if devices.len() == 1 {
+        "device"
+    } else {
+        "devices"
+    };
+    format!(
+        "reply lost: the serial line lost or garbled the reply of {whose} {} this round (the \
+         master still answers); read again next round; the view stops if {} replies in a row are lost",
+        list.join(", "),
+        crate::link::MAX_LOST_IN_A_ROW + 1
+    )
 }
 
 /// The legend of a controller that did not answer.

@@ -34,7 +34,7 @@ use super::live::{
 };
 use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
-use super::{configure, set_frame, SetRead};
+use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
@@ -236,9 +236,9 @@ struct Session {
     shown: Vec<SetRead>,
 }
 
-/// The values of the `show` sets at one update: each set's device and its registers, or
-/// `None` when the controller did not answer.
-type Shown = Vec<(u8, Option<Vec<(&'static Register, u16)>>)>;
+/// The values of the `show` sets at one update: each set's device and its registers with
+/// their raw values, or why there are none ([`Reading::NoAnswer`], [`Reading::Lost`]).
+type Shown = Vec<(u8, Result<Vec<(&'static Register, u16)>, Reading>)>;
 
 /// Reads every `show` set.
 fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, HostError> {
@@ -246,11 +246,11 @@ fn read_shown<P: Port>(session: &Session, link: &mut Link<P>) -> Result<Shown, H
         .shown
         .iter()
         .map(|read| {
-            let raws = read.run_or_silent(link)?;
-            Ok((
-                read.target.device,
-                raws.map(|raws| read.regs.iter().copied().zip(raws).collect()),
-            ))
+            let values = match read.read_for_view(link)? {
+                Reading::Values(raws) => Ok(read.regs.iter().copied().zip(raws).collect()),
+                missing => Err(missing),
+            };
+            Ok((read.target.device, values))
         })
         .collect()
 }
@@ -278,8 +278,14 @@ fn shown_lines(
     let mut lines: Vec<String> = shown
         .iter()
         .map(|(device, values)| {
-            let Some(values) = values else {
-                return format!("device {device}: no answer");
+            let values = match values {
+                Ok(values) => values,
+                Err(Reading::Lost) => {
+                    return format!(
+                        "device {device}: reply lost on the serial line (read again next update)"
+                    )
+                }
+                Err(_) => return format!("device {device}: no answer"),
             };
             let cells: Vec<String> = values
                 .iter()
@@ -314,11 +320,18 @@ fn shown_lines(
 /// angle through a pot calibration, false when it is not the wheel's).
 fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String {
     json::array(shown.iter().map(|(device, values)| {
-        let Some(values) = values else {
-            return json::Object::new()
-                .int("device", *device)
-                .raw("values", "null")
+        let values = match values {
+            Ok(values) => values,
+            Err(missing) => {
+                let object = json::Object::new()
+                    .int("device", *device)
+                    .raw("values", "null");
+                return match missing {
+                    Reading::Lost => object.bool("reply_lost", true),
+                    _ => object,
+                }
                 .finish();
+            }
         };
         let values = json::array(values.iter().map(|&(reg, raw)| {
             let object = json::Object::new()
@@ -405,6 +418,10 @@ fn view_json(
         .raw(
             "no_answer",
             &json::array(s.silent().iter().map(u8::to_string)),
+        )
+        .raw(
+            "reply_lost",
+            &json::array(s.lost().iter().map(u8::to_string)),
         )
         .str("master", &master_line(s));
     // What `show` lines added, when there are any.
@@ -994,7 +1011,7 @@ mod tests {
         assert_eq!(
             lines[6],
             format!(
-                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"no_answer":[],"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"no_answer":[],"reply_lost":[],"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
                 wheels.join(",")
             )
         );

@@ -11,14 +11,15 @@
 //! not read yet shows as "-", not as 0.0 °C.
 //!
 //! A controller the master reports off the bus (NoAnswer) shows as "no answer" and is read
-//! again each round; the watch goes on with the others.
+//! again each round; the watch goes on with the others. So does a reply the serial line
+//! loses ("reply lost"), a few in a row at most ([`crate::link::Link::forgive`]).
 
 use std::time::Duration;
 
 use shared::regs::{id, BoardKind, Register};
 
 use super::read::SCRATCH_SET;
-use super::{fresh, Frame, SetRead};
+use super::{fresh, Frame, Reading, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
@@ -256,8 +257,8 @@ pub struct Row {
     pub target: Target,
     /// Its registers, in set order.
     pub regs: Vec<&'static Register>,
-    /// Their raw values, or `None` when the controller did not answer the master.
-    pub raws: Option<Vec<u16>>,
+    /// Their raw values, or why there are none this round.
+    pub reading: Reading,
     /// The master's REGMASTER_TEMPSREAD, read beside a row of temperatures.
     pub temps_read: Option<u16>,
 }
@@ -308,28 +309,28 @@ pub fn run<P: Port>(
         number += 1;
         let mut rows = Vec::with_capacity(plan.reads.len());
         for read in &plan.reads {
-            let raws = read.run_or_silent(link)?;
-            // The master's answer to a silent controller came through the scratch set.
-            if raws.is_none() && plan.set == SCRATCH_SET {
-                super::configure(
-                    link,
-                    read.target,
-                    plan.set,
-                    &plan.set_frame,
-                    read.regs.len(),
-                )?;
+            let reading = read.read_for_view(link)?;
+            if reading.values().is_none() {
+                restore_scratch(plan, link)?;
             }
             rows.push(Row {
                 target: read.target,
                 regs: read.regs.clone(),
-                raws,
+                reading,
                 temps_read: None,
             });
         }
         if let Some(t) = &plan.temps_read {
-            let bits = t.read.run(link)?.first().copied();
+            let bits = t.read.read_for_view(link)?;
+            if bits.values().is_none() {
+                restore_scratch(plan, link)?;
+            }
             for row in rows.iter_mut().filter(|r| r.target == t.read.target) {
-                row.temps_read = bits;
+                match bits.values() {
+                    Some(bits) => row.temps_read = bits.first().copied(),
+                    // Without TEMPSREAD a 0.0 °C could pass for a reading: the row is lost.
+                    None => row.reading = Reading::Lost,
+                }
             }
         }
         on_round(&Round {
@@ -337,6 +338,27 @@ pub fn run<P: Port>(
             set: plan.set,
             rows,
         })?;
+    }
+    Ok(())
+}
+
+/// Configures again whichever of the plan's sets is the scratch set: a read that failed was
+/// followed by a probe of the master's error registers through it
+/// ([`crate::link::Link::forgive`]).
+fn restore_scratch<P: Port>(plan: &Plan, link: &mut Link<P>) -> Result<(), HostError> {
+    if plan.set == SCRATCH_SET {
+        if let Some(first) = plan.reads.first() {
+            super::configure(
+                link,
+                first.target,
+                plan.set,
+                &plan.set_frame,
+                first.regs.len(),
+            )?;
+        }
+    }
+    if let Some(t) = plan.temps_read.as_deref().filter(|t| t.set == SCRATCH_SET) {
+        super::configure(link, t.read.target, t.set, &t.set_frame, 1)?;
     }
     Ok(())
 }
@@ -363,13 +385,23 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     }
     let mut unread = false;
     let mut silent = Vec::new();
+    let mut lost = Vec::new();
     for row in &round.rows {
         let mut cells = vec![row.target.device.to_string()];
-        let Some(raws) = &row.raws else {
-            silent.push(row.target.device);
-            cells.push("no answer".to_owned());
-            table.rows.push(cells);
-            continue;
+        let raws = match &row.reading {
+            Reading::Values(raws) => raws,
+            Reading::NoAnswer => {
+                silent.push(row.target.device);
+                cells.push("no answer".to_owned());
+                table.rows.push(cells);
+                continue;
+            }
+            Reading::Lost => {
+                lost.push(row.target.device);
+                cells.push("reply lost".to_owned());
+                table.rows.push(cells);
+                continue;
+            }
         };
         cells.extend(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
             if row.is_reading(reg) == Some(false) {
@@ -396,6 +428,9 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     if !silent.is_empty() {
         lines.push(super::no_answer_legend(&silent));
     }
+    if !lost.is_empty() {
+        lines.push(super::reply_lost_legend(&lost));
+    }
     lines
 }
 
@@ -405,21 +440,28 @@ pub fn json_lines(round: &Round) -> Vec<String> {
         .rows
         .iter()
         .map(|row| {
-            // `values` null: the controller did not answer.
-            let values = match &row.raws {
-                Some(raws) => json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
-                    fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg))
-                        .finish()
-                })),
-                None => "null".to_owned(),
+            // `values` null: the controller did not answer, or its reply was lost
+            // (`reply_lost`).
+            let values = match &row.reading {
+                Reading::Values(raws) => {
+                    json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
+                        fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg))
+                            .finish()
+                    }))
+                }
+                Reading::NoAnswer | Reading::Lost => "null".to_owned(),
             };
-            json::Object::new()
+            let object = json::Object::new()
                 .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
                 .int("set", round.set)
                 .int("device", row.target.device)
                 .str("board", row.target.board())
-                .raw("values", &values)
-                .finish()
+                .raw("values", &values);
+            if row.reading == Reading::Lost {
+                object.bool("reply_lost", true).finish()
+            } else {
+                object.finish()
+            }
         })
         .collect()
 }
