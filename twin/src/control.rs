@@ -41,10 +41,9 @@ impl ControlSocket {
         }
         if std::fs::symlink_metadata(path).is_ok() {
             if UnixStream::connect(path).is_ok() {
-                return Err(TwinError::Io {
-                    what: "another twin is already running with control socket",
-                    path: path.to_path_buf(),
-                    source: io::Error::from(io::ErrorKind::AddrInUse),
+                return Err(TwinError::AlreadyRunning {
+                    control: path.to_path_buf(),
+                    link: crate::paths::link_of(path),
                 });
             }
             std::fs::remove_file(path).map_err(io_err("cannot remove the stale socket", path))?;
@@ -123,7 +122,18 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("twin-ctl-test-{}", std::process::id()));
         let path = dir.join("port.ctl");
         let mut socket = ControlSocket::bind(&path).unwrap();
-        assert!(ControlSocket::bind(&path).is_err(), "a live socket is kept");
+        // A live socket is kept, and the error says what to do.
+        let refused = ControlSocket::bind(&path).err().map(|e| e.to_string());
+        let (link, ctl) = (dir.join("port"), path.display());
+        assert_eq!(
+            refused,
+            Some(format!(
+                "another twin is already running with control socket {ctl}: use it \
+                 (`hostctl --port {} …`, `twin inject --control {ctl} status`), stop it first \
+                 (Ctrl-C where it runs), or start this one with another --link",
+                link.display()
+            ))
+        );
         let client = {
             let path = path.clone();
             std::thread::spawn(move || send(&path, "cut 4"))

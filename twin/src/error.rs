@@ -50,6 +50,14 @@ pub enum TwinError {
         /// Emulated time of the discovery.
         at_us: u64,
     },
+    /// A twin already runs with this control socket (on the same link).
+    #[error("{}", already_running(control, link.as_deref()))]
+    AlreadyRunning {
+        /// Its control socket.
+        control: PathBuf,
+        /// The pty link the socket belongs to, when the socket is named after one.
+        link: Option<PathBuf>,
+    },
     /// The control socket or a link path failed.
     #[error("{what} {path}: {source}")]
     Io {
@@ -60,4 +68,24 @@ pub enum TwinError {
         /// The operating system's error.
         source: std::io::Error,
     },
+}
+
+/// What to do about a twin already running: use it, stop it, or pick another link.
+fn already_running(control: &std::path::Path, link: Option<&std::path::Path>) -> String {
+    let use_it = match link {
+        Some(link) => format!(
+            "use it (`hostctl --port {} …`, `twin inject --control {} status`)",
+            link.display(),
+            control.display()
+        ),
+        None => format!(
+            "use it (`twin inject --control {} status`)",
+            control.display()
+        ),
+    };
+    format!(
+        "another twin is already running with control socket {}: {use_it}, stop it first \
+         (Ctrl-C where it runs), or start this one with another --link",
+        control.display()
+    )
 }

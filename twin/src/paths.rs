@@ -38,6 +38,15 @@ pub fn control_of(link: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// The pty link whose control socket is `control` (the inverse of [`control_of`]); None
+/// for a socket not named `<link>.ctl`.
+pub fn link_of(control: &Path) -> Option<PathBuf> {
+    let name = control.to_str()?;
+    name.strip_suffix(CONTROL_SUFFIX)
+        .filter(|link| !link.is_empty() && !link.ends_with('/'))
+        .map(PathBuf::from)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,5 +66,11 @@ mod tests {
             control_of(Path::new("/tmp/x/port")),
             PathBuf::from("/tmp/x/port.ctl")
         );
+        assert_eq!(
+            link_of(Path::new("/tmp/x/port.ctl")),
+            Some(PathBuf::from("/tmp/x/port"))
+        );
+        assert_eq!(link_of(Path::new("/tmp/x/sock")), None);
+        assert_eq!(link_of(Path::new("/tmp/x/.ctl")), None);
     }
 }
