@@ -458,12 +458,12 @@ fn the_status_lists_running_spikes_and_what_each_sensor_measures() {
     );
     apply(&mut r, "spike 5 lift 1.25 40");
     apply(&mut r, "temp 4 31.5");
-    apply(&mut r, "temp 0 -60");
+    apply(&mut r, "temp 0 -55");
     assert_eq!(
         status_line(&mut r, "current spikes"),
         "current spikes: wheel 2 steer +3.5 A, 20.0 ms left, wheel 5 lift +1.25 A, 40.0 ms left"
     );
-    // Set values show; one below the sensor's −55 °C shows as the sensor reads it.
+    // Set values show, to the sensor's ends.
     assert_eq!(
         status_line(&mut r, "temperatures"),
         "temperatures °C (ambient, then controllers 1..9): \

@@ -130,7 +130,7 @@ const RESTORE: &str = "restore N   (N = controller 1..9)";
 const REBOOT: &str = "reboot N   (N = controller 1..9)";
 const SPIKE: &str = "spike W drive|steer|lift AMPS MS   (0 < AMPS <= 10.24, 0 < MS <= 60000)";
 const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
-const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9)";
+const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9; -55 <= CELSIUS <= 125)";
 const DROP: &str = "drop-serial N [to-master|to-host]";
 const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode)";
 
@@ -265,9 +265,16 @@ impl Command {
             ("sensor", _) => Err(CommandError::Usage(SENSOR)),
             ("temp", [i, celsius]) => {
                 let c = finite(celsius, "a temperature in °C")?;
+                if !(-55.0..=125.0).contains(&c) {
+                    return Err(CommandError::OutOfRange {
+                        what: "the temperature (°C)",
+                        given: (*celsius).to_owned(),
+                        allowed: "-55 to 125 (what the DS18S20 measures)",
+                    });
+                }
                 Ok(Command::Temp {
                     index: number(i, "a sensor number (0..9)")?,
-                    half_degrees: (c * 2.0).round().clamp(-110.0, 250.0) as i16,
+                    half_degrees: (c * 2.0).round() as i16,
                 })
             }
             ("temp", _) => Err(CommandError::Usage(TEMP)),
@@ -508,6 +515,25 @@ mod tests {
                 "{line}"
             );
         }
+        // A temperature the sensor cannot measure is refused, not clamped.
+        for c in ["-55.5", "125.5", "1000"] {
+            assert_eq!(
+                Command::parse(&format!("temp 1 {c}"))
+                    .err()
+                    .map(|e| e.to_string()),
+                Some(format!(
+                    "the temperature (°C) `{c}` is out of range; give -55 to 125 (what the \
+                     DS18S20 measures)"
+                ))
+            );
+        }
+        assert_eq!(
+            Command::parse("temp 0 -55"),
+            Ok(Command::Temp {
+                index: 0,
+                half_degrees: -110
+            })
+        );
         assert_eq!(
             Command::parse("spike 6 lift 10.24 60000"),
             Ok(Command::Spike {
