@@ -6,6 +6,7 @@
 use std::io;
 use std::time::Duration;
 
+use shared::master::LinkError;
 use shared::protocol;
 use shared::regs::id;
 
@@ -59,8 +60,12 @@ pub struct Link<P: Port> {
     /// A bit per device (0..15) whose last read the master could not relay because the
     /// controller did not answer on I²C ([`Link::note_silent`]).
     silent: u16,
-    /// Replies lost on the serial line since the last whole one ([`Link::forgive`]).
-    lost_in_a_row: u32,
+    /// Per read (device 0..15, set 0..7), its replies lost on the serial line since it last
+    /// came whole ([`Link::forgive`]).
+    lost_in_a_row: [u8; 128],
+    /// Whether a probe has overwritten the scratch set since [`Link::take_scratch_clobbered`]
+    /// last asked.
+    scratch_clobbered: bool,
 }
 
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
@@ -107,7 +112,8 @@ impl<P: Port> Link<P> {
             port,
             errors_seen: None,
             silent: 0,
-            lost_in_a_row: 0,
+            lost_in_a_row: [0; 128],
+            scratch_clobbered: false,
         }
     }
 
@@ -143,30 +149,46 @@ impl<P: Port> Link<P> {
         }
     }
 
-    /// Whether a view may go on past `e`, a failed read: a reply lost or garbled on the
-    /// serial line while the master still answers (it answered the probe that followed the
-    /// timeout, or the reply came whole with bytes after it), at most
-    /// [`MAX_LOST_IN_A_ROW`] replies in a row. The master has dropped a frame that lost a
-    /// byte (its inter-byte timeout) and the probe drained a short reply, so the next
-    /// frame lines up. A master that does not answer, or rebooted, is not forgiven.
-    pub fn forgive(&mut self, e: &HostError) -> bool {
-        let lost = match e {
+    /// Whether a view may go on past `e`, a failed read of `set` from a device: a reply
+    /// lost or garbled on the serial line while the master still answers, at most
+    /// [`MAX_LOST_IN_A_ROW`] of that read's replies in a row ([`Link::note_whole`] starts
+    /// the count again). `errors_before` is [`Link::errors_seen`] from before the read.
+    ///
+    /// Lost on the line means: the reply came whole with bytes after it (drained, and no
+    /// banner among them), or the reply stopped short and the probe that followed found
+    /// the master answering with either no new link error (the frame arrived whole, so the
+    /// reply was lost on its way back) or a frame that lost a byte on its way (Truncated,
+    /// Framing, Overrun), which the master has dropped. A master that does not answer, or
+    /// answers that its read set is empty (it rebooted), is not forgiven.
+    pub fn forgive(&mut self, e: &HostError, set: u8, errors_before: Option<u16>) -> bool {
+        let device = match *e {
             HostError::Timeout {
-                master: MasterSays::Answered { .. },
+                device,
+                master: MasterSays::Answered { code, count },
                 ..
-            } => true,
-            HostError::OutOfStep { .. } => {
-                self.drain();
-                true
-            }
-            _ => false,
+            } if lost_on_the_line(code, count, errors_before) => device,
+            HostError::OutOfStep { device, .. } => device,
+            _ => return false,
         };
-        if lost && self.lost_in_a_row < MAX_LOST_IN_A_ROW {
-            self.lost_in_a_row += 1;
+        let lost = &mut self.lost_in_a_row[read_index(device, set)];
+        if u32::from(*lost) < MAX_LOST_IN_A_ROW {
+            *lost += 1;
             true
         } else {
             false
         }
+    }
+
+    /// Notes that the read of `set` from `device` came through the serial line whole: its
+    /// count of lost replies ([`Link::forgive`]) starts again.
+    pub fn note_whole(&mut self, device: u8, set: u8) {
+        self.lost_in_a_row[read_index(device, set)] = 0;
+    }
+
+    /// Whether a probe after a timeout has overwritten the scratch set since the last call
+    /// (a command that keeps a set of its own there configures it again); clears the flag.
+    pub fn take_scratch_clobbered(&mut self) -> bool {
+        std::mem::take(&mut self.scratch_clobbered)
     }
 
     /// The underlying port.
@@ -201,9 +223,13 @@ impl<P: Port> Link<P> {
         if is_banner(&self.stray()?) {
             return Err(HostError::MasterRebooted);
         }
-        let (reply, got) = self.exchange(frame, reply_len, timeout)?;
+        let (mut reply, got) = self.exchange(frame, reply_len, timeout)?;
         if got < reply_len {
-            if is_banner(&reply[..got]) {
+            // Late bytes are drained before the probe, so they are not taken for its answer;
+            // a banner among them is a reboot.
+            reply.truncate(got);
+            reply.extend(self.late());
+            if is_banner(&reply) {
                 return Err(HostError::MasterRebooted);
             }
             return Err(HostError::Timeout {
@@ -213,8 +239,10 @@ impl<P: Port> Link<P> {
                 master: self.master_says(),
             });
         }
-        let extra = self.stray()?;
+        let mut extra = self.stray()?;
         if !extra.is_empty() {
+            // The rest of what is coming too, so the next frame's reply lines up.
+            extra.extend(self.late());
             let mut all = reply;
             all.extend_from_slice(&extra);
             if is_banner(&all) {
@@ -225,7 +253,6 @@ impl<P: Port> Link<P> {
                 extra: extra.len(),
             });
         }
-        self.lost_in_a_row = 0;
         Ok(reply)
     }
 
@@ -287,10 +314,10 @@ impl<P: Port> Link<P> {
     /// After a timeout: the master's REGMASTER_LASTERROR and REGMASTER_ERRORCOUNT, read
     /// through the scratch set with short timeouts, or [`MasterSays::Silent`]. This
     /// overwrites the scratch set: a command that goes on after a timeout (a view past a
-    /// silent controller, [`crate::cmd::SetRead::run_or_silent`]) configures it again if it
-    /// uses it.
+    /// silent controller or a lost reply, [`crate::cmd::SetRead::read_for_view`])
+    /// configures it again if it uses it ([`Link::take_scratch_clobbered`]).
     fn master_says(&mut self) -> MasterSays {
-        self.drain();
+        self.scratch_clobbered = true;
         let ids = [id::REGMASTER_LASTERROR, id::REGMASTER_ERRORCOUNT];
         let mut set = heapless::Vec::<u8, { protocol::MAX_FRAME }>::new();
         if protocol::encode_set_read_set(0, SCRATCH_SET, &ids, &mut set).is_err() {
@@ -315,11 +342,28 @@ impl<P: Port> Link<P> {
         }
     }
 
-    /// Reads and drops whatever arrives within [`DRAIN_TIMEOUT`] of the last byte (at most
-    /// [`STRAY_MAX`]); a failing port is left to the probe that follows.
-    fn drain(&mut self) {
-        let _ = self.waiting(DRAIN_TIMEOUT);
+    /// Whatever arrives within [`DRAIN_TIMEOUT`] of the last byte (at most [`STRAY_MAX`]);
+    /// a failing port is left to the exchange that follows.
+    fn late(&mut self) -> Vec<u8> {
+        self.waiting(DRAIN_TIMEOUT).unwrap_or_default()
     }
+}
+
+/// A read's place in [`Link`]'s count of lost replies.
+fn read_index(device: u8, set: u8) -> usize {
+    usize::from(device & 15) * 8 + usize::from(set & 7)
+}
+
+/// Whether a probe's answer (`code`, `count`) after a short reply says the serial line lost
+/// it: no link error since `before` (the errors seen at the last probe; none at all when
+/// there was none), or a frame damaged on its way to the master. Never an empty read set:
+/// that is a master that rebooted.
+fn lost_on_the_line(code: u8, count: u16, before: Option<u16>) -> bool {
+    let no_new_error = before == Some(count) || (before.is_none() && count == 0);
+    let damaged = [LinkError::Truncated, LinkError::Framing, LinkError::Overrun]
+        .iter()
+        .any(|e| e.code() == code);
+    code != LinkError::EmptyReadSet.code() && (no_new_error || damaged)
 }
 
 #[cfg(test)]
@@ -405,6 +449,74 @@ mod tests {
             }) => {}
             other => panic!("unexpected {other:?}"),
         }
+    }
+
+    #[test]
+    fn only_a_reply_lost_on_the_line_is_forgiven_and_only_three_in_a_row_per_device() {
+        let truncated = LinkError::Truncated.code();
+        let empty = LinkError::EmptyReadSet.code();
+        let no_answer = LinkError::NoAnswer.code();
+        // (code, count, errors seen before): no new error, or a frame damaged on its way.
+        assert!(lost_on_the_line(0, 0, None));
+        assert!(lost_on_the_line(no_answer, 4, Some(4)));
+        assert!(lost_on_the_line(truncated, 5, Some(4)));
+        assert!(lost_on_the_line(LinkError::Overrun.code(), 1, None));
+        // A new error of another kind, an old one never probed, or a rebooted master: no.
+        assert!(!lost_on_the_line(no_answer, 5, Some(4)));
+        assert!(!lost_on_the_line(no_answer, 3, None));
+        assert!(!lost_on_the_line(empty, 1, None));
+        assert!(!lost_on_the_line(empty, 4, Some(4)));
+
+        let timeout = |device, code| HostError::Timeout {
+            device,
+            expected: 2,
+            got: 0,
+            master: MasterSays::Answered { code, count: 1 },
+        };
+        let mut link = Link::ready(FakePort::default());
+        for _ in 0..MAX_LOST_IN_A_ROW {
+            assert!(link.forgive(&timeout(3, truncated), 1, Some(0)));
+        }
+        assert!(
+            !link.forgive(&timeout(3, truncated), 1, Some(0)),
+            "the fourth"
+        );
+        // Counted per read, and again from 0 after that read came whole.
+        assert!(link.forgive(&timeout(6, truncated), 1, Some(0)));
+        assert!(link.forgive(&timeout(3, truncated), 5, Some(0)));
+        link.note_whole(3, 5);
+        assert!(!link.forgive(&timeout(3, truncated), 1, Some(0)));
+        link.note_whole(3, 1);
+        assert!(link.forgive(&timeout(3, truncated), 1, Some(0)));
+        // Bytes after a whole reply: forgiven; a silent master, a reboot: not.
+        assert!(link.forgive(
+            &HostError::OutOfStep {
+                device: 4,
+                extra: 1
+            },
+            1,
+            None
+        ));
+        let silent = HostError::Timeout {
+            device: 4,
+            expected: 2,
+            got: 0,
+            master: MasterSays::Silent,
+        };
+        assert!(!link.forgive(&silent, 1, None));
+        assert!(!link.forgive(&HostError::MasterRebooted, 1, None));
+        assert!(!link.forgive(&timeout(4, empty), 1, None));
+    }
+
+    #[test]
+    fn a_probe_marks_the_scratch_set_overwritten_once() {
+        // A short reply, then the probe's two answers.
+        let port = FakePort::with_replies(&[&[0x01][..], &[0x02], &[0x08, 0x01, 0x00]]);
+        let mut link = Link::ready(port);
+        assert!(!link.take_scratch_clobbered());
+        assert!(link.transact(4, &[3, 0x43, 0], 2).is_err());
+        assert!(link.take_scratch_clobbered());
+        assert!(!link.take_scratch_clobbered(), "cleared by the question");
     }
 
     #[test]

@@ -885,7 +885,7 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
     let lines: Vec<&str> = o.out.lines().collect();
     assert_eq!(
         lines[1],
-        "{\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":null}"
+        "{\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":null,\"no_answer\":true}"
     );
     assert_eq!(lines.len(), 6);
 }
@@ -934,8 +934,8 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     assert!(
         o.out.ends_with(
             "reply lost: the serial line lost or garbled the reply of device 3 this round (the \
-             master still answers); read again next round; the view stops if 4 replies in a row \
-             are lost\n"
+             master still answers); read again next round; the view stops if one read loses 4 in \
+             a row\n"
         ),
         "{}",
         o.out
@@ -1002,6 +1002,64 @@ fn a_watch_stops_when_the_line_loses_four_replies_in_a_row() {
     );
     assert!(o.out.contains("round 3"), "{}", o.out);
     assert!(!o.out.contains("round 4"), "{}", o.out);
+}
+
+#[test]
+fn a_master_watch_stops_at_four_lost_replies_though_it_configures_the_scratch_set_between() {
+    // Set 2 (the master's), with TEMPSREAD beside it in set 7, which every probe overwrites
+    // and the watch configures again: those configures do not count as replies come whole.
+    let mut replies: Vec<&[u8]> = vec![&[0x0b], &[0x01]];
+    for _ in 0..4 {
+        // Set 2's reply lost (the probe: no error since boot), set 7 configured again,
+        // TEMPSREAD read.
+        replies.extend([
+            &[][..],
+            &[0x02],
+            &[0x00, 0x00, 0x00],
+            &[0x01],
+            &[0xff, 0x03],
+        ]);
+    }
+    let o = hostctl("watch --readset 2 --count 8 --interval-ms 0", &replies);
+    assert!(
+        matches!(o.result, Err(HostError::Timeout { device: 0, .. })),
+        "{:?}",
+        o.result
+    );
+    let out = collapse(&o.out);
+    assert_eq!(out.matches("\n0 reply lost\n").count(), 3, "{out}");
+    assert!(!out.contains("round 4"), "{out}");
+}
+
+#[test]
+fn a_master_that_says_its_set_is_empty_has_rebooted_and_is_not_a_lost_reply() {
+    // Set 2's read stops short; the probe finds the last error EmptyReadSet (11): the
+    // master rebooted since the set was configured.
+    let replies: [&[u8]; 5] = [&[0x0b], &[0x01], &[0x8b], &[0x02], &[0x0b, 0x01, 0x00]];
+    let o = hostctl("watch --readset 2 --count 2 --interval-ms 0", &replies);
+    let err = o.result.expect_err("no view of a rebooted master");
+    assert!(
+        err.to_string()
+            .contains("it has rebooted since the set was configured"),
+        "{err}"
+    );
+    assert!(!o.out.contains("reply lost"), "{}", o.out);
+}
+
+#[test]
+fn a_reply_with_bytes_after_it_is_lost_and_the_next_round_reads_again() {
+    let replies: [&[u8]; 3] = [&[0x01], &[0x2a, 0x00, 0x55], &[0x2b, 0x00]];
+    let o = hostctl(
+        "watch --readset 1 --device 3 --count 2 --interval-ms 0 TIMER",
+        &replies,
+    );
+    o.result.unwrap();
+    let out = collapse(&o.out);
+    assert!(
+        out.contains("round 1\ndev TIMER\nms\n3 reply lost\n"),
+        "{out}"
+    );
+    assert!(out.contains("round 2\ndev TIMER\nms\n3 43\n"), "{out}");
 }
 
 #[test]

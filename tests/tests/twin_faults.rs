@@ -461,7 +461,7 @@ fn the_status_lists_running_spikes_and_what_each_sensor_measures() {
     apply(&mut r, "temp 0 -55");
     assert_eq!(
         status_line(&mut r, "current spikes"),
-        "current spikes: wheel 2 steer +3.5 A, 20.0 ms left, wheel 5 lift +1.25 A, 40.0 ms left"
+        "current spikes: wheel 2 steer +3.5 A (20.0 ms left), wheel 5 lift +1.25 A (40.0 ms left)"
     );
     // Set values show, to the sensor's ends.
     assert_eq!(
@@ -472,7 +472,7 @@ fn the_status_lists_running_spikes_and_what_each_sensor_measures() {
     r.run_us(25_000).unwrap();
     let line = status_line(&mut r, "current spikes");
     assert!(
-        line.starts_with("current spikes: wheel 5 lift +1.25 A, 1") && line.ends_with(" ms left"),
+        line.starts_with("current spikes: wheel 5 lift +1.25 A (1") && line.ends_with(" ms left)"),
         "the steer spike is over, the lift one has about 15 ms left: {line}"
     );
     r.run_us(20_000).unwrap();

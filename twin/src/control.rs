@@ -43,7 +43,9 @@ impl ControlSocket {
             if UnixStream::connect(path).is_ok() {
                 return Err(TwinError::AlreadyRunning {
                     control: path.to_path_buf(),
-                    link: crate::paths::link_of(path),
+                    // Named after a link only when that link is there (`--control` may name
+                    // any socket).
+                    link: crate::paths::link_of(path).filter(|link| link.exists()),
                 });
             }
             std::fs::remove_file(path).map_err(io_err("cannot remove the stale socket", path))?;
@@ -122,18 +124,30 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("twin-ctl-test-{}", std::process::id()));
         let path = dir.join("port.ctl");
         let mut socket = ControlSocket::bind(&path).unwrap();
-        // A live socket is kept, and the error says what to do.
-        let refused = ControlSocket::bind(&path).err().map(|e| e.to_string());
-        let (link, ctl) = (dir.join("port"), path.display());
+        // A live socket is kept, and the error says what to do; its link is named only when
+        // there is one.
+        let refused = |path: &Path| ControlSocket::bind(path).err().map(|e| e.to_string());
+        let ctl = path.display();
+        let advice = "stop it first (Ctrl-C where it runs), or start this one with another \
+                      --link (or --control)";
         assert_eq!(
-            refused,
+            refused(&path),
             Some(format!(
                 "another twin is already running with control socket {ctl}: use it \
-                 (`hostctl --port {} …`, `twin inject --control {ctl} status`), stop it first \
-                 (Ctrl-C where it runs), or start this one with another --link",
+                 (`twin inject --control {ctl} status`), {advice}"
+            ))
+        );
+        let link = dir.join("port");
+        std::fs::write(&link, b"").unwrap();
+        assert_eq!(
+            refused(&path),
+            Some(format!(
+                "another twin is already running with control socket {ctl}: use it \
+                 (`hostctl --port {} …`, `twin inject --control {ctl} status`), {advice}",
                 link.display()
             ))
         );
+        std::fs::remove_file(&link).unwrap();
         let client = {
             let path = path.clone();
             std::thread::spawn(move || send(&path, "cut 4"))

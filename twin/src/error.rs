@@ -50,7 +50,7 @@ pub enum TwinError {
         /// Emulated time of the discovery.
         at_us: u64,
     },
-    /// A twin already runs with this control socket (on the same link).
+    /// A twin already runs with this control socket (`--control`, or the one of `--link`).
     #[error("{}", already_running(control, link.as_deref()))]
     AlreadyRunning {
         /// Its control socket.
@@ -85,7 +85,7 @@ fn already_running(control: &std::path::Path, link: Option<&std::path::Path>) ->
     };
     format!(
         "another twin is already running with control socket {}: {use_it}, stop it first \
-         (Ctrl-C where it runs), or start this one with another --link",
+         (Ctrl-C where it runs), or start this one with another --link (or --control)",
         control.display()
     )
 }

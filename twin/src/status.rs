@@ -42,7 +42,7 @@ pub fn status(rover: &mut Rover) -> String {
         .spikes()
         .into_iter()
         .map(|(w, a, amps, left_ms)| {
-            format!("wheel {w} {} +{amps} A, {left_ms:.1} ms left", a.name())
+            format!("wheel {w} {} +{amps} A ({left_ms:.1} ms left)", a.name())
         })
         .collect();
     let _ = writeln!(out, "current spikes: {}", list(spikes));

@@ -11,7 +11,7 @@ use shared::regs::{id, BoardKind};
 use super::pc::{device_of, Motor, Pairs, Pc, WHEELS};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
-use crate::exception::type_name;
+use crate::exception::{type_name, Exception};
 use crate::link::Link;
 use crate::port::Port;
 use crate::resolve::{self, Target};
@@ -84,7 +84,8 @@ impl Snapshot {
 
     /// Whether register `reg` of `device` holds no reading: a master temperature whose
     /// REGMASTER_TEMPSREAD bit (read with the master's row) is clear holds 0.0 °C, which
-    /// is no value.
+    /// is no value; one whose bit is unknown (the master's reply was lost) is not shown as
+    /// one either.
     pub fn no_reading(&self, device: u8, reg: u8) -> bool {
         let bit = Target::of(device).and_then(|target| {
             let register = target.kind.register(reg)?;
@@ -92,7 +93,9 @@ impl Snapshot {
         });
         match (bit, self.raw(0, id::REGMASTER_TEMPSREAD)) {
             (Some(bit), Some(read)) => read & bit == 0,
-            _ => false,
+            // The master's reply (and its TEMPSREAD) was lost: 0.0 °C may be no reading.
+            (Some(_), None) => self.lost.contains(&0),
+            (None, _) => false,
         }
     }
 }
@@ -327,20 +330,28 @@ fn cell(v: Option<f32>, decimals: usize) -> String {
 }
 
 /// The master's exception in words.
+/// REGMASTER_EXCEPTIONDATA's entry in the master's table.
+fn master_exception_data() -> &'static shared::regs::Register {
+    &shared::regs::MASTER[usize::from(id::REGMASTER_EXCEPTIONDATA)]
+}
+
 pub(crate) fn master_line(s: &Snapshot) -> String {
-    let data = s.raw(0, id::REGMASTER_EXCEPTIONDATA).unwrap_or(0);
-    let exception = if data == 0 {
-        "no exception".to_owned()
-    } else {
-        let (t, slave, motor) = ((data & 0xff) as u8, (data >> 8) & 0xf, data >> 12);
-        if slave == 0 {
-            format!("exception: {}", type_name(t))
-        } else {
-            format!(
-                "exception: {} on controller {slave} (motor {motor})",
-                type_name(t)
-            )
-        }
+    if s.lost.contains(&0) {
+        return "master: reply lost on the serial line (read again next update)".to_owned();
+    }
+    let data = s.raw(0, id::REGMASTER_EXCEPTIONDATA);
+    let exception = match data.and_then(|raw| Exception::of(master_exception_data(), raw)) {
+        None => "exception not read".to_owned(),
+        Some(e) if e.is_none() => "no exception".to_owned(),
+        Some(Exception {
+            code,
+            controller: Some(c),
+            motor,
+        }) if c != 0 => format!(
+            "exception: {} on controller {c} (motor {motor})",
+            type_name(code)
+        ),
+        Some(e) => format!("exception: {}", e.type_name()),
     };
     // A sensor the master has not read since boot (or cannot find) holds 0.0 °C, which
     // is no reading: shown as "-".
@@ -644,8 +655,8 @@ mod tests {
         assert!(
             lines.contains(
                 &"reply lost: the serial line lost or garbled the reply of devices 1, 0 this round \
-                  (the master still answers); read again next round; the view stops if 4 replies \
-                  in a row are lost"
+                  (the master still answers); read again next round; the view stops if one read loses 4 \
+                  in a row"
                     .to_owned()
             ),
             "{lines:#?}"
@@ -653,6 +664,19 @@ mod tests {
         assert!(
             !lines.iter().any(|l| l.contains("no answer")),
             "a lost reply is no silent controller: {lines:#?}"
+        );
+        // The master's state is not passed off as "no exception", nor an unread 0.0 °C in a
+        // `show` set as a temperature.
+        assert!(
+            lines.contains(
+                &"master: reply lost on the serial line (read again next update)".to_owned()
+            ),
+            "{lines:#?}"
+        );
+        assert!(s.no_reading(0, id::REGMASTER_TEMP1));
+        assert!(
+            !snapshot().no_reading(0, id::REGMASTER_TEMP1),
+            "TEMPSREAD not in the set"
         );
         // A lost reply says nothing of a reboot: the calibration stands.
         let mut dropped = Dropped::default();

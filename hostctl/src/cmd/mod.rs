@@ -75,6 +75,8 @@ pub fn configure<P: Port>(
 pub struct SetRead {
     /// Who is read.
     pub target: Target,
+    /// The read set, 0..7.
+    pub set: u8,
     /// The registers of the set, in order.
     pub regs: Vec<&'static Register>,
     /// The read frame.
@@ -99,6 +101,7 @@ impl SetRead {
         })?;
         Ok(Self {
             target,
+            set,
             regs,
             frame: protocol::encode_read(target.device, set),
             reply_len,
@@ -153,6 +156,7 @@ impl SetRead {
         match self.run_within(link, link.reply_timeout(device)) {
             Ok(values) => {
                 link.note_silent(device, false);
+                link.note_whole(device, self.set);
                 Ok(Reading::Values(values))
             }
             Err(HostError::Timeout {
@@ -160,13 +164,16 @@ impl SetRead {
                 ..
             }) if device != 0 && code == LinkError::NoAnswer as u8 && before != Some(count) => {
                 link.note_silent(device, true);
+                link.note_whole(device, self.set);
                 Ok(Reading::NoAnswer)
             }
-            Err(HostError::Timeout { .. }) if quick => {
+            // The probe has just overwritten the scratch set: a set there is not read again
+            // before its owner configures it anew.
+            Err(HostError::Timeout { .. }) if quick && self.set != read::SCRATCH_SET => {
                 link.note_silent(device, false);
                 self.read_for_view(link)
             }
-            Err(e) if link.forgive(&e) => Ok(Reading::Lost),
+            Err(e) if link.forgive(&e, self.set, before) => Ok(Reading::Lost),
             Err(e) => Err(e),
         }
     }
@@ -203,7 +210,7 @@ pub fn reply_lost_legend(devices: &[u8]) -> String {
     };
     format!(
         "reply lost: the serial line lost or garbled the reply of {whose} {} this round (the \
-         master still answers); read again next round; the view stops if {} replies in a row are lost",
+         master still answers); read again next round; the view stops if one read loses {} in a row",
         list.join(", "),
         crate::link::MAX_LOST_IN_A_ROW + 1
     )

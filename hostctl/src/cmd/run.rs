@@ -13,10 +13,12 @@
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
 //! `updates`, `rate`, `wheels` with required (null: none sent this session), actual and
 //! calibrated per motor and the wheel's exceptions in words (null: none),
-//! `master_exception`, `no_answer` (the controllers that did not answer), `master` (the
-//! text view's master line) and, after `show` lines, `shown` (per set, `device` and its
-//! `values`: null when the controller did not answer). A failure ends the output with
-//! `error` (see [`crate::run_with`]).
+//! `master_exception` (null when its reply was lost), `no_answer` (the controllers that did
+//! not answer), `reply_lost` (the devices whose reply the serial line lost; each is read
+//! again next update), `master` (the text view's master line) and, after `show` lines,
+//! `shown` (per set, `device` and its `values`: null when the controller did not answer, or
+//! with `reply_lost` when the line lost the reply; an EXCEPTIONDATA value also comes taken
+//! apart as `exception`). A failure ends the output with `error` (see [`crate::run_with`]).
 //!
 //! `--pairs` names the wheel pairs fitted, as the library's init() mask (see
 //! [`super::pc::Pairs`]).
@@ -36,6 +38,7 @@ use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
+use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
@@ -299,8 +302,11 @@ fn shown_lines(
                     } else {
                         ""
                     };
+                    let words = Exception::of(reg, raw)
+                        .map(|e| format!(" ({})", e.words()))
+                        .unwrap_or_default();
                     format!(
-                        "{} {}{}{mark}",
+                        "{} {}{}{mark}{words}",
                         reg.short_name(),
                         resolve::show(reg, raw),
                         resolve::unit_suffix(reg)
@@ -328,7 +334,7 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String
                     .raw("values", "null");
                 return match missing {
                     Reading::Lost => object.bool("reply_lost", true),
-                    _ => object,
+                    _ => object.bool("no_answer", true),
                 }
                 .finish();
             }
@@ -343,8 +349,12 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String
                 object.num("value", mapping::unmap(raw, reg))
             }
             .str("unit", reg.unit);
-            match off_calibration(pc, dropped, *device, reg) {
+            let object = match off_calibration(pc, dropped, *device, reg) {
                 Some(off) => object.bool("calibrated", !off),
+                None => object,
+            };
+            match Exception::of(reg, raw) {
+                Some(e) => object.raw("exception", &e.json()),
                 None => object,
             }
             .finish()
@@ -722,6 +732,62 @@ mod tests {
                 ran.text
             );
         }
+    }
+
+    #[test]
+    fn a_shown_set_goes_on_past_a_lost_reply_and_takes_exceptiondata_apart() {
+        // `show 0 exceptiondata` over two updates: one show reply holds 0x1401, the other is
+        // lost on the line (the probe finds no link error since boot). The view printed is
+        // the last update's.
+        let lost = [vec![], vec![0x02], vec![0x00, 0x00, 0x00]];
+        let replies = |lost_last: bool| {
+            let mut replies = configure_replies();
+            replies.push(vec![1]);
+            for update in [false, true] {
+                replies.extend(update_replies());
+                if update == lost_last {
+                    replies.extend(lost.clone());
+                } else {
+                    replies.push(vec![0x01, 0x14]);
+                }
+            }
+            replies
+        };
+        let script = "show 0 exceptiondata\nwait 0.01\n";
+        let ran = run_script(script, &replies(true), false);
+        ran.result.unwrap();
+        assert!(
+            ran.text
+                .contains("\ndevice 0: reply lost on the serial line (read again next update)\n"),
+            "{}",
+            ran.text
+        );
+        let ran = run_script(script, &replies(true), true);
+        ran.result.unwrap();
+        assert!(
+            ran.text
+                .contains(r#""shown":[{"device":0,"values":null,"reply_lost":true}]"#),
+            "{}",
+            ran.text
+        );
+        let ran = run_script(script, &replies(false), false);
+        ran.result.unwrap();
+        assert!(
+            ran.text.contains(
+                "\ndevice 0: EXCEPTIONDATA 5121 (overcurrent on controller 4, motor 1)\n"
+            ),
+            "{}",
+            ran.text
+        );
+        let ran = run_script(script, &replies(false), true);
+        ran.result.unwrap();
+        assert!(
+            ran.text.contains(
+                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"text":"overcurrent on controller 4, motor 1"}"#
+            ),
+            "{}",
+            ran.text
+        );
     }
 
     #[test]

@@ -310,9 +310,7 @@ pub fn run<P: Port>(
         let mut rows = Vec::with_capacity(plan.reads.len());
         for read in &plan.reads {
             let reading = read.read_for_view(link)?;
-            if reading.values().is_none() {
-                restore_scratch(plan, link)?;
-            }
+            restore_scratch(plan, link)?;
             rows.push(Row {
                 target: read.target,
                 regs: read.regs.clone(),
@@ -322,9 +320,7 @@ pub fn run<P: Port>(
         }
         if let Some(t) = &plan.temps_read {
             let bits = t.read.read_for_view(link)?;
-            if bits.values().is_none() {
-                restore_scratch(plan, link)?;
-            }
+            restore_scratch(plan, link)?;
             for row in rows.iter_mut().filter(|r| r.target == t.read.target) {
                 match bits.values() {
                     Some(bits) => row.temps_read = bits.first().copied(),
@@ -342,10 +338,13 @@ pub fn run<P: Port>(
     Ok(())
 }
 
-/// Configures again whichever of the plan's sets is the scratch set: a read that failed was
-/// followed by a probe of the master's error registers through it
-/// ([`crate::link::Link::forgive`]).
+/// Configures again whichever of the plan's sets is the scratch set, when a read that
+/// failed was followed by a probe of the master's error registers through it
+/// ([`Link::take_scratch_clobbered`]).
 fn restore_scratch<P: Port>(plan: &Plan, link: &mut Link<P>) -> Result<(), HostError> {
+    if !link.take_scratch_clobbered() {
+        return Ok(());
+    }
     if plan.set == SCRATCH_SET {
         if let Some(first) = plan.reads.first() {
             super::configure(
@@ -440,8 +439,8 @@ pub fn json_lines(round: &Round) -> Vec<String> {
         .rows
         .iter()
         .map(|row| {
-            // `values` null: the controller did not answer, or its reply was lost
-            // (`reply_lost`).
+            // `values` null: the controller did not answer (`no_answer`), or its reply was
+            // lost (`reply_lost`).
             let values = match &row.reading {
                 Reading::Values(raws) => {
                     json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
@@ -457,11 +456,12 @@ pub fn json_lines(round: &Round) -> Vec<String> {
                 .int("device", row.target.device)
                 .str("board", row.target.board())
                 .raw("values", &values);
-            if row.reading == Reading::Lost {
-                object.bool("reply_lost", true).finish()
-            } else {
-                object.finish()
+            match row.reading {
+                Reading::Values(_) => object,
+                Reading::NoAnswer => object.bool("no_answer", true),
+                Reading::Lost => object.bool("reply_lost", true),
             }
+            .finish()
         })
         .collect()
 }
