@@ -270,13 +270,10 @@ fn a_second_open_of_a_port_in_use_resets_nothing() {
 fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
     use hostctl::cmd::watch::{self, Args};
     use hostctl::cmd::Reading;
-    let dir = std::env::temp_dir().join(format!("twin-pty-lost-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let link = dir.join("port");
-    let (_path, stop, thread) = start_twin(Some(link.clone()));
-    let control = twin::paths::control_of(&link);
-    let mut port = hostctl::link::open_serial(&link.display().to_string(), Duration::ZERO)
-        .expect("banner through the link");
+    let twin = Linked::start("twin-pty-lost");
+    let control = twin.control.clone();
+    let mut port =
+        hostctl::link::open_serial(&twin.port, Duration::ZERO).expect("banner through the link");
     // The master's standard set 2 (temperatures, EXCEPTIONDATA), with REGMASTER_TEMPSREAD
     // read beside it through the scratch set, which each lost reply's probe overwrites.
     let plan = watch::plan(&Args {
@@ -328,7 +325,6 @@ fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
         status.contains("serial bytes lost: 1 to master, 1 to host (0 and 0 pending)"),
         "{status}"
     );
-    stop.store(true, Ordering::SeqCst);
-    thread.join().unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(port);
+    twin.finish();
 }

@@ -754,40 +754,32 @@ mod tests {
             replies
         };
         let script = "show 0 exceptiondata\nwait 0.01\n";
-        let ran = run_script(script, &replies(true), false);
-        ran.result.unwrap();
-        assert!(
-            ran.text
-                .contains("\ndevice 0: reply lost on the serial line (read again next update)\n"),
-            "{}",
-            ran.text
-        );
-        let ran = run_script(script, &replies(true), true);
-        ran.result.unwrap();
-        assert!(
-            ran.text
-                .contains(r#""shown":[{"device":0,"values":null,"reply_lost":true}]"#),
-            "{}",
-            ran.text
-        );
-        let ran = run_script(script, &replies(false), false);
-        ran.result.unwrap();
-        assert!(
-            ran.text.contains(
-                "\ndevice 0: EXCEPTIONDATA 5121 (overcurrent on controller 4, motor 1)\n"
+        for (lost_last, json, want) in [
+            (
+                true,
+                false,
+                "\ndevice 0: reply lost on the serial line (read again next update)\n",
             ),
-            "{}",
-            ran.text
-        );
-        let ran = run_script(script, &replies(false), true);
-        ran.result.unwrap();
-        assert!(
-            ran.text.contains(
-                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"text":"overcurrent on controller 4, motor 1"}"#
+            (
+                true,
+                true,
+                r#""shown":[{"device":0,"values":null,"reply_lost":true}]"#,
             ),
-            "{}",
-            ran.text
-        );
+            (
+                false,
+                false,
+                "\ndevice 0: EXCEPTIONDATA 5121 (overcurrent on controller 4, motor 1)\n",
+            ),
+            (
+                false,
+                true,
+                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"text":"overcurrent on controller 4, motor 1"}"#,
+            ),
+        ] {
+            let ran = run_script(script, &replies(lost_last), json);
+            ran.result.unwrap();
+            assert!(ran.text.contains(want), "{want}\n{}", ran.text);
+        }
     }
 
     #[test]

@@ -289,18 +289,7 @@ pub fn run<P: Port>(
     link: &mut Link<P>,
     on_round: &mut dyn FnMut(&Round) -> Result<(), HostError>,
 ) -> Result<(), HostError> {
-    if let Some(first) = plan.reads.first() {
-        super::configure(
-            link,
-            first.target,
-            plan.set,
-            &plan.set_frame,
-            first.regs.len(),
-        )?;
-    }
-    if let Some(t) = &plan.temps_read {
-        super::configure(link, t.read.target, t.set, &t.set_frame, 1)?;
-    }
+    configure_sets(plan, link, |_| true)?;
     let mut number = 0;
     while plan.count.is_none_or(|k| number < k) {
         if number > 0 {
@@ -342,21 +331,29 @@ pub fn run<P: Port>(
 /// failed was followed by a probe of the master's error registers through it
 /// ([`Link::take_scratch_clobbered`]).
 fn restore_scratch<P: Port>(plan: &Plan, link: &mut Link<P>) -> Result<(), HostError> {
-    if !link.take_scratch_clobbered() {
-        return Ok(());
+    if link.take_scratch_clobbered() {
+        configure_sets(plan, link, |set| set == SCRATCH_SET)?;
     }
-    if plan.set == SCRATCH_SET {
-        if let Some(first) = plan.reads.first() {
-            super::configure(
-                link,
-                first.target,
-                plan.set,
-                &plan.set_frame,
-                first.regs.len(),
-            )?;
-        }
+    Ok(())
+}
+
+/// Configures the plan's sets that `which` picks: the watched one (through its first
+/// device) and the one holding TEMPSREAD.
+fn configure_sets<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    which: impl Fn(u8) -> bool,
+) -> Result<(), HostError> {
+    if let Some(first) = plan.reads.first().filter(|_| which(plan.set)) {
+        super::configure(
+            link,
+            first.target,
+            plan.set,
+            &plan.set_frame,
+            first.regs.len(),
+        )?;
     }
-    if let Some(t) = plan.temps_read.as_deref().filter(|t| t.set == SCRATCH_SET) {
+    if let Some(t) = plan.temps_read.as_deref().filter(|t| which(t.set)) {
         super::configure(link, t.read.target, t.set, &t.set_frame, 1)?;
     }
     Ok(())
