@@ -28,8 +28,9 @@ pub const PROBE_TIMEOUT: Duration = Duration::from_millis(300);
 /// costs a view this, not the full [`REPLY_TIMEOUT`], each round.
 pub const SILENT_REREAD_TIMEOUT: Duration = PROBE_TIMEOUT;
 
-/// How long to wait for stray bytes of a late reply before the probe, so they are not
-/// taken for its answer.
+/// How long to wait for stray bytes of a late reply (before the probe, so they are not
+/// taken for its answer), or for the rest of the bytes after a reply (so the next frame's
+/// reply lines up).
 pub const DRAIN_TIMEOUT: Duration = Duration::from_millis(50);
 
 /// How long to wait after `Ready` before the first frame, so the slaves the
@@ -179,8 +180,9 @@ impl<P: Port> Link<P> {
         }
     }
 
-    /// Notes that the read of `set` from `device` came through the serial line whole: its
-    /// count of lost replies ([`Link::forgive`]) starts again.
+    /// Notes that the read of `set` from `device` came through the serial line whole (its
+    /// values, or the master's word that the controller did not answer): its count of lost
+    /// replies ([`Link::forgive`]) starts again.
     pub fn note_whole(&mut self, device: u8, set: u8) {
         self.lost_in_a_row[read_index(device, set)] = 0;
     }

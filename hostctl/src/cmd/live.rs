@@ -329,12 +329,13 @@ fn cell(v: Option<f32>, decimals: usize) -> String {
     }
 }
 
-/// The master's exception in words.
 /// REGMASTER_EXCEPTIONDATA's entry in the master's table.
 fn master_exception_data() -> &'static shared::regs::Register {
     &shared::regs::MASTER[usize::from(id::REGMASTER_EXCEPTIONDATA)]
 }
 
+/// The master's line of the view: its exception in words and its temperatures, or that its
+/// reply was lost.
 pub(crate) fn master_line(s: &Snapshot) -> String {
     if s.lost.contains(&0) {
         return "master: reply lost on the serial line (read again next update)".to_owned();

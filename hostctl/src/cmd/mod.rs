@@ -145,7 +145,8 @@ impl SetRead {
     /// A controller that did not answer its last read is read with a shorter wait
     /// ([`Link::reply_timeout`]), so that a view with one off the bus goes on at a few
     /// rounds a second. If that shorter read fails for another cause than NoAnswer, the
-    /// reply may just have been slow: it is read once more with the full wait.
+    /// reply may just have been slow: it is read once more with the full wait (except a
+    /// read of the scratch set 7, which the probe has just overwritten).
     ///
     /// [`Reading::Lost`] when the reply was lost on the serial line while the master still
     /// answers ([`Link::forgive`], a few in a row at most). Any other failure is an error.
