@@ -825,6 +825,9 @@ fn watch_json_gives_one_line_per_device_per_round() {
     );
 }
 
+/// Two rounds of TIMER from set 1's controllers (3, 6, 9), as the replies below script them.
+const WATCH_SET_1_TWICE: &str = "watch --readset 1 --count 2 --interval-ms 0 TIMER";
+
 /// A watch of set 1 (controllers 3, 6, 9) up to the end of round 1, in which controller 6
 /// does not answer (the master's last error NoAnswer, count 1).
 const SIX_SILENT_IN_ROUND_1: [&[u8]; 6] = [
@@ -845,7 +848,7 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
         &[&[0x04, 0x00], &[0x05, 0x00], &[0x06, 0x00]],
     ]
     .concat();
-    let args = "watch --readset 1 --count 2 --interval-ms 0 TIMER";
+    let args = WATCH_SET_1_TWICE;
     let o = hostctl(args, &replies);
     o.result.unwrap();
     assert_eq!(
@@ -906,10 +909,7 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
         ],
     ]
     .concat();
-    let o = hostctl(
-        "watch --readset 1 --count 2 --interval-ms 0 TIMER",
-        &replies,
-    );
+    let o = hostctl(WATCH_SET_1_TWICE, &replies);
     o.result.unwrap();
     let (round1, round2) = o.out.split_once("round 2").expect("a second round");
     assert!(round1.contains("\n6    no answer\n"), "{}", o.out);
@@ -1125,10 +1125,7 @@ fn a_short_wait_that_fails_otherwise_is_read_again_with_the_full_wait() {
         ],
     ]
     .concat();
-    let o = hostctl(
-        "watch --readset 1 --count 2 --interval-ms 0 TIMER",
-        &replies,
-    );
+    let o = hostctl(WATCH_SET_1_TWICE, &replies);
     o.result.unwrap();
     let (r, s, p) = (REPLY_TIMEOUT, SILENT_REREAD_TIMEOUT, PROBE_TIMEOUT);
     assert_eq!(o.port.reply_timeouts, [r, r, r, p, p, r, r, s, p, p, r, r]);
