@@ -291,6 +291,11 @@ impl OneWireBus {
         assert!(ok, "no OneWire sensor {index}");
     }
 
+    /// The temperature sensor `index` measures, in 0.5 °C units (as set, clamped).
+    pub fn half_degrees(&self, index: usize) -> Option<i16> {
+        self.model.wire.borrow().half_degrees(index)
+    }
+
     /// Puts sensor `index` on the line or takes it off (fault injection): a removed
     /// sensor answers nothing, not even a presence pulse.
     ///

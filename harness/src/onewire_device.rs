@@ -182,6 +182,11 @@ impl Wire {
         true
     }
 
+    /// The temperature device `i` measures, in 0.5 °C units.
+    pub fn half_degrees(&self, i: usize) -> Option<i16> {
+        self.sensors.get(i).map(|s| s.half)
+    }
+
     /// Puts device `i` on the line or takes it off (it then answers nothing).
     pub fn set_present(&mut self, i: usize, present: bool) -> bool {
         let Some(s) = self.sensors.get_mut(i) else {

@@ -29,21 +29,32 @@ pub struct Exception {
 impl Exception {
     /// `raw` taken apart, when `reg` is a slave's or the master's EXCEPTIONDATA.
     pub fn of(reg: &Register, raw: u16) -> Option<Exception> {
-        let [low, high] = raw.to_le_bytes();
         if *reg == MASTER[usize::from(id::REGMASTER_EXCEPTIONDATA)] {
-            Some(Exception {
-                code: low,
-                controller: Some(high & 0x0f),
-                motor: high >> 4,
-            })
+            Some(Exception::master(raw))
         } else if *reg == COMMON[usize::from(id::REG_EXCEPTIONDATA)] {
-            Some(Exception {
-                code: low,
-                controller: None,
-                motor: high,
-            })
+            Some(Exception::slave(raw))
         } else {
             None
+        }
+    }
+
+    /// REGMASTER_EXCEPTIONDATA taken apart: type, controller, motor.
+    pub fn master(raw: u16) -> Exception {
+        let [low, high] = raw.to_le_bytes();
+        Exception {
+            code: low,
+            controller: Some(high & 0x0f),
+            motor: high >> 4,
+        }
+    }
+
+    /// A slave's REG_EXCEPTIONDATA taken apart: type, motor.
+    pub fn slave(raw: u16) -> Exception {
+        let [low, high] = raw.to_le_bytes();
+        Exception {
+            code: low,
+            controller: None,
+            motor: high,
         }
     }
 

@@ -446,14 +446,6 @@ impl Program {
             .ok_or_else(|| format!("__heap_start {end:#x} lies below RAM"))
     }
 
-    /// The functions an indirect call may reach (their address is taken).
-    pub fn address_taken(&self) -> Vec<&str> {
-        self.address_taken
-            .iter()
-            .map(|&f| self.functions[f].name.as_str())
-            .collect()
-    }
-
     /// The vectors with a handler of their own: (number, handler's name).
     pub fn vectors(&self) -> Vec<(u8, &str)> {
         self.vectors

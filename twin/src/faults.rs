@@ -1,7 +1,7 @@
 //! Fault injection on the [`Rover`]: stalled motors, current spikes, controllers cut off
 //! the bus or rebooted, lost serial bytes, unplugged temperature sensors, and the RC receiver.
 
-use crate::rover::{RC_CHANNELS, SENSORS, SENSOR_COUNT};
+use crate::rover::{RC_CHANNELS, SENSORS};
 use crate::serial::Direction;
 use crate::wiring::{self, Axis, WHEELS};
 use crate::{Rover, TwinError};
@@ -84,16 +84,16 @@ impl Rover {
     /// sensor's −55..=125 °C).
     pub fn set_temperature(&mut self, index: u8, half_degrees: i16) -> Result<(), TwinError> {
         check_sensor(index)?;
-        let half_degrees = half_degrees.clamp(-110, 250);
         self.sensors
             .set_half_degrees(usize::from(index), half_degrees);
-        self.temperatures[usize::from(index)] = half_degrees;
         Ok(())
     }
 
     /// What each temperature sensor measures (0 ambient, then controllers 1..9), 0.5 °C units.
-    pub fn temperatures(&self) -> [i16; SENSOR_COUNT] {
-        self.temperatures
+    pub fn temperatures(&self) -> Vec<i16> {
+        SENSORS
+            .filter_map(|i| self.sensors.half_degrees(usize::from(i)))
+            .collect()
     }
 
     /// The current spikes still running, as (wheel, axis, amperes, ms left).

@@ -36,10 +36,8 @@ pub fn start_half_degrees(sensor: u8) -> i16 {
     40 + i16::from(sensor)
 }
 
-/// How many temperature sensors there are: the ambient one and one per controller.
-pub const SENSOR_COUNT: usize = 10;
 /// The temperature sensors: 0 ambient, 1..=9 one per controller.
-pub const SENSORS: std::ops::RangeInclusive<u8> = 0..=(SENSOR_COUNT as u8 - 1);
+pub const SENSORS: std::ops::RangeInclusive<u8> = 0..=9;
 /// The RC receiver's channels: 0 drive, 1 steer, 2 mode.
 pub const RC_CHANNELS: std::ops::RangeInclusive<u8> = 0..=2;
 
@@ -49,8 +47,6 @@ pub struct Rover {
     pub(crate) sensors: OneWireBus,
     pub(crate) rc: RcReceiver,
     pub(crate) removed_sensors: BTreeSet<u8>,
-    /// What each sensor measures, 0.5 °C units (the sensors hold it too, clamped alike).
-    pub(crate) temperatures: [i16; SENSOR_COUNT],
     pub(crate) bus: Bus,
     pub(crate) plant: Plant,
     pub(crate) serial: SerialLine,
@@ -79,10 +75,8 @@ impl Rover {
         let mut names = vec!["master".to_owned()];
         let mut master = Avr::load(&config.image("master"))?;
         let sensors = OneWireBus::attach_rover_sensors(&mut master);
-        let temperatures: [i16; SENSOR_COUNT] =
-            std::array::from_fn(|i| start_half_degrees(i as u8));
-        for (i, &half) in temperatures.iter().enumerate() {
-            sensors.set_half_degrees(i, half);
+        for i in SENSORS {
+            sensors.set_half_degrees(usize::from(i), start_half_degrees(i));
         }
         let rc = RcReceiver::attach(&mut master);
         bus.add_master(master)?;
@@ -102,7 +96,6 @@ impl Rover {
             sensors,
             rc,
             removed_sensors: BTreeSet::new(),
-            temperatures,
             bus,
             plant,
             serial: SerialLine::new(),

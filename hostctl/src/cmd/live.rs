@@ -240,8 +240,8 @@ fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
     if status & 1 == 0 {
         return None;
     }
-    let data = s.raw(device, id::REG_EXCEPTIONDATA)?;
-    Some(((data & 0xff) as u8, (data >> 8) as u8))
+    let e = Exception::slave(s.raw(device, id::REG_EXCEPTIONDATA)?);
+    Some((e.code, e.motor))
 }
 
 /// Whether `s` shows `device` in its boot state (in exception, type BOOT); `None` when
@@ -329,11 +329,6 @@ fn cell(v: Option<f32>, decimals: usize) -> String {
     }
 }
 
-/// REGMASTER_EXCEPTIONDATA's entry in the master's table.
-fn master_exception_data() -> &'static shared::regs::Register {
-    &shared::regs::MASTER[usize::from(id::REGMASTER_EXCEPTIONDATA)]
-}
-
 /// The master's line of the view: its exception in words and its temperatures, or that its
 /// reply was lost.
 pub(crate) fn master_line(s: &Snapshot) -> String {
@@ -341,7 +336,7 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
         return "master: reply lost on the serial line (read again next update)".to_owned();
     }
     let data = s.raw(0, id::REGMASTER_EXCEPTIONDATA);
-    let exception = match data.and_then(|raw| Exception::of(master_exception_data(), raw)) {
+    let exception = match data.map(Exception::master) {
         None => "exception not read".to_owned(),
         Some(e) if e.is_none() => "no exception".to_owned(),
         Some(Exception {
