@@ -27,18 +27,34 @@ pub fn register_json(
     raw: u16,
     read: Option<bool>,
 ) -> json::Object {
-    let object = object
-        .int("id", reg.id)
-        .str("register", reg.name)
-        .int("raw", raw);
-    let object = if read == Some(false) {
+    let flag = read.map(|read| ("read", read));
+    value_json(
+        object.int("id", reg.id),
+        reg,
+        raw,
+        read == Some(false),
+        flag,
+    )
+}
+
+/// `object` with `reg`'s name, raw, value (`null` when `no_value`) and unit, then the
+/// boolean member `flag` if any, then `exception` for an EXCEPTIONDATA value.
+pub fn value_json(
+    object: json::Object,
+    reg: &Register,
+    raw: u16,
+    no_value: bool,
+    flag: Option<(&str, bool)>,
+) -> json::Object {
+    let object = object.str("register", reg.name).int("raw", raw);
+    let object = if no_value {
         object.raw("value", "null")
     } else {
         object.num("value", mapping::unmap(raw, reg))
     }
     .str("unit", reg.unit);
-    let object = match read {
-        Some(read) => object.bool("read", read),
+    let object = match flag {
+        Some((key, value)) => object.bool(key, value),
         None => object,
     };
     match Exception::of(reg, raw) {

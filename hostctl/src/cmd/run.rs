@@ -27,7 +27,6 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use shared::mapping;
 use shared::regs::{id, Register};
 
 use super::fresh;
@@ -340,23 +339,15 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String
             }
         };
         let values = json::array(values.iter().map(|&(reg, raw)| {
-            let object = json::Object::new()
-                .str("register", reg.name)
-                .int("raw", raw);
-            let object = if s.no_reading(*device, reg.id) {
-                object.raw("value", "null")
-            } else {
-                object.num("value", mapping::unmap(raw, reg))
-            }
-            .str("unit", reg.unit);
-            let object = match off_calibration(pc, dropped, *device, reg) {
-                Some(off) => object.bool("calibrated", !off),
-                None => object,
-            };
-            match Exception::of(reg, raw) {
-                Some(e) => object.raw("exception", &e.json()),
-                None => object,
-            }
+            let calibrated =
+                off_calibration(pc, dropped, *device, reg).map(|off| ("calibrated", !off));
+            fresh::value_json(
+                json::Object::new(),
+                reg,
+                raw,
+                s.no_reading(*device, reg.id),
+                calibrated,
+            )
             .finish()
         }));
         json::Object::new()
