@@ -1,7 +1,9 @@
 //! The twin behind a real pseudo-terminal, opened the way hostctl opens a serial port (the
 //! `serialport` crate at 115200 8N1, DTR pulse, wait for `Ready`): the master's banner
 //! arrives after every open, because opening resets the master (the Uno's DTR auto-reset),
-//! and device 0 answers frames. Runs against whatever slave images are built.
+//! and device 0 answers frames. A Python program written from the reference alone
+//! (`examples/python/rover_client.py`) drives it too, as any program written for the real
+//! rover would. Runs against whatever slave images are built.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
@@ -150,16 +152,24 @@ fn slave_resets(control: &std::path::Path) -> Vec<u64> {
     counts[1..].to_vec()
 }
 
-/// Every wheel's drive speed (ticks/s), from the twin's status table.
-fn drive_speeds(control: &std::path::Path) -> Vec<f64> {
+/// Every wheel's physical state from the twin's status table: drive ticks/s, steer and
+/// lift degrees.
+fn wheel_states(control: &std::path::Path) -> Vec<[f64; 3]> {
     let status = twin::control::send(control, "status").expect("the twin answers");
     let rows = status
         .lines()
         .skip_while(|l| !l.starts_with("wheel  drive"));
     rows.skip(1)
-        .map(|row| row.split_whitespace().nth(1).expect("a speed"))
-        .map(|speed| speed.parse().expect("a number"))
+        .map(|row| {
+            let mut numbers = row.split_whitespace().skip(1);
+            [(); 3].map(|()| numbers.next().expect("3 values").parse().expect("a number"))
+        })
         .collect()
+}
+
+/// Every wheel's drive speed (ticks/s), from the twin's status table.
+fn drive_speeds(control: &std::path::Path) -> Vec<f64> {
+    wheel_states(control).iter().map(|s| s[0]).collect()
 }
 
 #[test]
@@ -326,5 +336,99 @@ fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
         "{status}"
     );
     drop(port);
+    twin.finish();
+}
+
+/// Runs the Python client of `examples/python`: a PC program written from the reference
+/// alone, with its own tables, float32 mapping and frames, sharing no code with this
+/// project. Returns its stdout; fails the test with its stderr if it fails.
+fn python_client(args: &[&str]) -> String {
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/python/rover_client.py"
+    );
+    let out = std::process::Command::new("python3")
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python3 runs (every machine this project sets up has it)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "the client failed: {stderr}");
+    String::from_utf8(out.stdout).expect("the client prints text")
+}
+
+#[test]
+fn the_python_client_builds_the_reference_s_frames() {
+    // Reference §4.3 (read sets via pair 0 and the master), §8.3 (calibrate() for wheel
+    // 1; its lift's first send is §8.2's default block with the §8.3 calibration, as the
+    // steer's first send is), §8.5 (resetExceptions() for pair 1) and §4.5 (demands).
+    let expected = "\
+init 1: 17 14 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27
+init 2: 17 24 00 01 02 03 05 2c 10 11 12 13 14 15 16 17 21 22 23 24 25 26 27
+init 3: 15 34 01 01 02 03 05 10 11 12 13 14 15 16 22 23 24 25 26 27 28
+init 0: 0e 04 02 01 02 03 04 05 06 07 08 09 0a 0b
+drive: 19 12 08 0a 41 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f ff 7f 18 fe 19 05
+steer 1st: 1d 12 0a 1b 00 00 1c 00 00 1d ff 7f 1e 00 00 1f 00 00 20 8f 02 2a 43 2b c4 28 fe 29 05
+steer 2nd: 1d 12 0a 1b 00 00 1c 32 33 1d ff 7f 1e cc 4c 1f 31 f3 20 ff 7f 2a 43 2b c4 28 fe 29 02
+lift 1st: 1d 32 0a 0a 00 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f 8f 02 17 0b 18 f2 19 fe 1a 05
+lift 2nd: 1d 32 0a 0a 00 00 0b ff 7f 0c ff 7f 0d cc 0c 0e 64 e6 0f ff 7f 17 0b 18 f2 19 fe 1a 05
+reset 4: 05 42 01 00 01
+reset 5: 05 52 01 00 01
+reset 6: 05 62 01 00 01
+reset 0: 05 02 01 00 01
+drive 1 1000: 06 12 01 09 fe 9f
+drive 1 0: 06 12 01 09 ff 7f
+steer 1 40: 06 12 01 1a 98 99
+lift 1 20: 06 32 01 09 cb 8c
+lift 2 20: 06 32 01 1b cb 8c
+read master: 03 03 02
+";
+    assert_eq!(python_client(&["--print-frames"]), expected);
+}
+
+/// The numbers after `speed`, `steer` and `lift` on a client's `wheel W…:` line.
+fn client_wheel(line: &str) -> [f64; 3] {
+    let words: Vec<&str> = line.split([' ', ',']).filter(|w| !w.is_empty()).collect();
+    ["speed", "steer", "lift"].map(|name| {
+        let at = words.iter().position(|w| *w == name).expect(name);
+        words[at + 1].parse().expect("a number")
+    })
+}
+
+#[test]
+fn a_python_program_written_from_the_reference_drives_the_twin() {
+    let twin = Linked::start("twin-pty-python");
+    // Open, banner, read sets, calibrate(), resetExceptions(), all drives to 1000, wheel
+    // 1 steered to 40 and lifted to 20, update() until every demand holds for 10 updates,
+    // then every drive to 0 until the wheels stop; its timeout is wall time, generous for
+    // a loaded machine.
+    let report = python_client(&["--port", &twin.port, "--timeout", "120"]);
+    let line = |prefix: &str| {
+        report
+            .lines()
+            .find_map(|l| l.strip_prefix(prefix))
+            .unwrap_or_else(|| panic!("no {prefix:?} line in:\n{report}"))
+    };
+    assert!(line("banner: ").ends_with("| Ready"), "{report}");
+    assert_eq!(line("settled: "), "yes", "{report}");
+    assert_eq!(line("exceptions: "), "none", "{report}");
+    assert_eq!(line("stopped: "), "yes", "{report}");
+    for wheel in 1..=6u8 {
+        let [speed, steer, lift] = client_wheel(line(&format!("wheel {wheel}: ")));
+        let (want_steer, want_lift) = if wheel == 1 { (40.0, 20.0) } else { (0.0, 0.0) };
+        assert!((speed - 1000.0).abs() <= 50.0, "wheel {wheel}: {report}");
+        assert!((steer - want_steer).abs() <= 2.0, "wheel {wheel}: {report}");
+        assert!((lift - want_lift).abs() <= 2.0, "wheel {wheel}: {report}");
+        let [stopped, ..] = client_wheel(line(&format!("wheel {wheel} after stop: ")));
+        assert!(stopped.abs() <= 20.0, "wheel {wheel}: {report}");
+    }
+    // What the boards told the program is what the twin's wheels did: wheel 1 stays
+    // where it was steered and lifted (the close reset the boards; nothing moves it).
+    let [_, steer, lift] = client_wheel(line("wheel 1 after stop: "));
+    let physical = wheel_states(&twin.control);
+    assert_eq!(physical.len(), 6);
+    assert!((physical[0][1] - steer).abs() <= 1.0, "{physical:?} vs {report}");
+    assert!((physical[0][2] - lift).abs() <= 1.0, "{physical:?} vs {report}");
+    assert!(physical.iter().all(|s| s[0].abs() < 50.0), "{physical:?}");
     twin.finish();
 }
