@@ -18,6 +18,21 @@ pub const MAX_LINES: usize = 10;
 /// Longest line kept; a longer run of bytes without LF counts as one line.
 const MAX_LINE_LEN: usize = 256;
 
+/// The banner's first line.
+const FIRST_LINE: &str = "Starting";
+
+/// The banner's last line: frames are accepted after it.
+const READY: &str = "Ready";
+
+/// Whether `bytes` hold a piece of the banner (its first line, or its last with its line
+/// end): among a reply's bytes, the sign that the master rebooted.
+pub fn is_in(bytes: &[u8]) -> bool {
+    let ready = [READY.as_bytes(), b"\r\n"].concat();
+    [FIRST_LINE.as_bytes(), &ready]
+        .iter()
+        .any(|line| bytes.windows(line.len()).any(|w| w == *line))
+}
+
 /// Why the banner wait ended without `Ready`.
 #[derive(Debug, PartialEq, Eq)]
 pub enum BannerFailure {
@@ -44,7 +59,7 @@ pub fn wait_ready<P: Port + ?Sized>(port: &mut P) -> Result<Vec<String>, BannerF
     let mut seen = Vec::new();
     while seen.len() < MAX_LINES {
         let line = read_line(port, seen.len())?;
-        if line == "Ready" {
+        if line == READY {
             return Ok(seen);
         }
         seen.push(line);
@@ -104,6 +119,16 @@ mod tests {
         assert_eq!(seen[1], "Readyish");
         // Bytes after the banner stay unread for the first reply.
         assert_eq!(port.remaining(), b"leftover");
+    }
+
+    #[test]
+    fn a_piece_of_the_banner_is_found_among_reply_bytes() {
+        assert!(is_in(b"\x00\x01Starting\r\nMar"));
+        assert!(is_in(b"1103\r\nReady\r\n"));
+        // A reply's bytes that spell neither line whole, or Ready without its line end.
+        assert!(!is_in(b"Startin"));
+        assert!(!is_in(b"\x07Ready"));
+        assert!(!is_in(&[0x00, 0x7f, 0xff, 0x0b]));
     }
 
     #[test]

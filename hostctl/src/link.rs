@@ -45,13 +45,6 @@ pub const MAX_LOST_IN_A_ROW: u32 = 3;
 /// The most stray bytes one check reads.
 const STRAY_MAX: usize = 1024;
 
-/// Whether `bytes` hold a piece of the master's start-up banner (its first or last line).
-fn is_banner(bytes: &[u8]) -> bool {
-    [&b"Starting"[..], b"Ready\r\n"]
-        .iter()
-        .any(|line| bytes.windows(line.len()).any(|w| w == *line))
-}
-
 /// A connected link to the master.
 pub struct Link<P: Port> {
     port: P,
@@ -222,7 +215,7 @@ impl<P: Port> Link<P> {
         reply_len: usize,
         timeout: Duration,
     ) -> Result<Vec<u8>, HostError> {
-        if is_banner(&self.stray()?) {
+        if banner::is_in(&self.stray()?) {
             return Err(HostError::MasterRebooted);
         }
         let (mut reply, got) = self.exchange(frame, reply_len, timeout)?;
@@ -231,7 +224,7 @@ impl<P: Port> Link<P> {
             // a banner among them is a reboot.
             reply.truncate(got);
             reply.extend(self.late());
-            if is_banner(&reply) {
+            if banner::is_in(&reply) {
                 return Err(HostError::MasterRebooted);
             }
             return Err(HostError::Timeout {
@@ -247,7 +240,7 @@ impl<P: Port> Link<P> {
             extra.extend(self.late());
             let mut all = reply;
             all.extend_from_slice(&extra);
-            if is_banner(&all) {
+            if banner::is_in(&all) {
                 return Err(HostError::MasterRebooted);
             }
             return Err(HostError::OutOfStep {

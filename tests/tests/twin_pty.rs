@@ -427,8 +427,14 @@ fn a_python_program_written_from_the_reference_drives_the_twin() {
     let [_, steer, lift] = client_wheel(line("wheel 1 after stop: "));
     let physical = wheel_states(&twin.control);
     assert_eq!(physical.len(), 6);
-    assert!((physical[0][1] - steer).abs() <= 1.0, "{physical:?} vs {report}");
-    assert!((physical[0][2] - lift).abs() <= 1.0, "{physical:?} vs {report}");
+    assert!(
+        (physical[0][1] - steer).abs() <= 1.0,
+        "{physical:?} vs {report}"
+    );
+    assert!(
+        (physical[0][2] - lift).abs() <= 1.0,
+        "{physical:?} vs {report}"
+    );
     assert!(physical.iter().all(|s| s[0].abs() < 50.0), "{physical:?}");
     twin.finish();
 }
