@@ -2,13 +2,15 @@
 """A PC program for Blodwen that is not hostctl: Python's standard library only.
 
 It talks to the rover's serial port exactly as the original PC library does, written from
-docs of the wire (reference sections 2-4 and 8) and nothing of this project's code: its own
+the wire's reference (sections 2-4 and 8) and nothing of this project's code: its own
 register tables, its own float32 value mapping, its own frames. So it shows that a program
 written for the real rover drives the twin unchanged; `--print-frames` prints the frames it
-builds, which the tests compare with the reference's bytes.
+builds and `--print-mapping` its float32 mapping of section 3's examples, which the tests
+compare with the reference's bytes and values.
 
-    python3 examples/python/rover_client.py --port /tmp/rover        # drive, report JSON
+    python3 examples/python/rover_client.py --port /tmp/rover        # drive, report
     python3 examples/python/rover_client.py --print-frames           # frames, no port
+    python3 examples/python/rover_client.py --print-mapping          # section 3's examples
 
 Driving: open the port (the master resets and sends its banner), wait for `Ready`, set the
 library's read sets, calibrate(), resetExceptions(), all six drives to 1000 ticks/s, wheel 1
@@ -19,6 +21,7 @@ rover's boards reported.
 """
 
 import argparse
+import fcntl
 import json
 import os
 import select
@@ -29,6 +32,8 @@ import time
 
 # --- Register tables (reference section 2): id -> (bytes, writable, range or None) -------
 
+# The writable column mirrors section 2; the library does not check it (the master drops a
+# write to a read-only register and still answers 00).
 W, R = True, False
 COMMON = [
     (1, W, None),  # 0 RESET
@@ -157,10 +162,9 @@ def write_frame(device, writes):
             raise RoverError(f"{value:f} out of range for register {reg}")
         raw = to_raw(value, size, span)
         body += [reg] + list(raw.to_bytes(2, "little")[:size])
-    frame = bytes([len(body) + 2, device << 4 | 2] + body)
-    if len(frame) > 255:
+    if len(body) + 2 > 255:
         raise RoverError("message too long")
-    return frame
+    return bytes([len(body) + 2, device << 4 | 2] + body)
 
 
 def set_read_set_frame(device, index, ids):
@@ -325,7 +329,19 @@ class Port:
         attrs[4] = attrs[5] = termios.B115200
         attrs[6][termios.VMIN], attrs[6][termios.VTIME] = 1, 0
         termios.tcsetattr(self.fd, termios.TCSANOW, attrs)
+        self.pulse_dtr()
         termios.tcflush(self.fd, termios.TCIFLUSH)
+
+    def pulse_dtr(self):
+        """DTR down for 10 ms and up again: the Uno's auto-reset, so the banner follows
+        even when DTR was already up. A pty refuses it (the twin resets on the open)."""
+        dtr = struct.pack("I", termios.TIOCM_DTR)
+        try:
+            fcntl.ioctl(self.fd, termios.TIOCMBIC, dtr)
+            time.sleep(0.01)
+            fcntl.ioctl(self.fd, termios.TIOCMBIS, dtr)
+        except OSError:
+            pass
 
     def read(self, count, timeout):
         """Exactly `count` bytes, or RoverError after `timeout` seconds without one."""
@@ -334,16 +350,19 @@ class Port:
             ready, _, _ = select.select([self.fd], [], [], timeout)
             if not ready:
                 raise RoverError("time out in read")
-            data += os.read(self.fd, count - len(data))
+            chunk = os.read(self.fd, count - len(data))
+            if not chunk:  # hung up: select would report it readable forever
+                raise RoverError("the port closed")
+            data += chunk
         return data
 
     def banner(self):
         """The lines up to `Ready` (at most 10, 5 s each), as the library waits for them."""
         lines = []
         for _ in range(10):
-            line = b""
+            line, deadline = b"", time.monotonic() + 5.0
             while not line.endswith(b"\n"):
-                line += self.read(1, 5.0)
+                line += self.read(1, max(0.0, deadline - time.monotonic()))
             lines.append(line.replace(b"\r", b"").rstrip(b"\n").decode("ascii", "replace"))
             if lines[-1] == "Ready":
                 return lines
@@ -382,7 +401,7 @@ class Rover:
         self.port, self.mask, self.lib = port, mask, Library()
         self.values = {}
 
-    def write(self, device, frame):
+    def write(self, frame):
         reply = self.port.transact(frame, 1)
         if reply != b"\x00":
             raise RoverError(f"error in reg write: {reply[0]}")
@@ -394,19 +413,20 @@ class Rover:
                 raise RoverError(f"error in read set: {count}, should be {frame[0] - 3}")
 
     def calibrate(self):
-        for wheel in self.wheels():
+        # All six wheels, whatever the mask: the writes to absent boards are answered 00.
+        for wheel in CALIBRATION:
             for device, frame in self.lib.calibrate_steps(wheel):
                 if device == "wait":
                     time.sleep(frame)
                 else:
-                    self.write(device, frame)
+                    self.write(frame)
 
     def reset_exceptions(self):
-        for device, frame in reset_frames(self.mask):
-            self.write(device, frame)
+        for _, frame in reset_frames(self.mask):
+            self.write(frame)
 
     def set_required(self, wheel, motor, value):
-        self.write(*self.lib.required(wheel, motor, value))
+        self.write(self.lib.required(wheel, motor, value)[1])
 
     def wheels(self):
         return [w for w in CALIBRATION if self.mask >> ((w - 1) // 2) & 1]
@@ -459,9 +479,43 @@ def print_frames():
         print(f"{name}: {frame.hex(' ')}")
 
 
+# Section 3's worked examples and raw values above F: (register, device's table, id, value).
+MAPPING_EXAMPLES = [
+    ("DRIVE_REQSPEED", DS, 9, [1000, 0, -1000, -4000, 4000, 1300, 5000]),
+    ("STEER_REQPOS", DS, 26, [40, -40]),
+    ("STEER_CALIBMIN", DS, 42, [-56, 66]),
+    ("DRIVE_PGAIN", DS, 10, [0.01]),
+    ("STEER_IGAIN", DS, 28, [2]),
+    ("INTEGRALDECAY", DS, 14, [0.95, 0.9]),
+    ("INTEGRALCAP", DS, 13, [300, 50]),
+    ("OVERCURRENTTHRESH", DS, 15, [500, 200, 10]),
+    ("STALLCHECK", DS, 24, [255]),
+    ("DEADZONE", DS, 25, [1, 0.5]),
+    ("TEMP1", MASTER, 2, [0.0, 21.5]),
+]
+ABOVE_F = [
+    ("DRIVE_REQSPEED", DS, 9, 65535),
+    ("STALLCHECK", DS, 24, 255),
+    ("STEER_CALIBMIN", DS, 42, 255),
+]
+
+
+def print_mapping():
+    """map() and unmap() on section 3's examples, one `name value -> raw -> value` per
+    line (6 decimals), then raw values above F, for the tests to pin."""
+    for name, table, reg, values in MAPPING_EXAMPLES:
+        size, _, span = table[reg]
+        for value in values:
+            raw = to_raw(value, size, span)
+            print(f"{name} {value} -> {raw:#06x} -> {from_raw(raw, size, span):.6f}")
+    for name, table, reg, raw in ABOVE_F:
+        size, _, span = table[reg]
+        print(f"{name} raw {raw:#06x} -> {from_raw(raw, size, span):.6f}")
+
+
 def settled(rover, demands):
-    """Every demand met: drives within 5 % (20 ticks/s of a stop), positions within 2
-    degrees."""
+    """Every demand met: drives within 5 % but at least 20 ticks/s (so a stop has slack),
+    positions within 2 degrees."""
     for wheel in rover.wheels():
         seen = rover.wheel(wheel)
         for motor, want in demands.get(wheel, {}).items():
@@ -539,9 +593,13 @@ def main():
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per phase")
     parser.add_argument("--json", action="store_true", help="the report as one JSON object")
     parser.add_argument("--print-frames", action="store_true", help="print frames, no port")
+    parser.add_argument("--print-mapping", action="store_true", help="print map() examples")
     args = parser.parse_args()
     if args.print_frames:
         print_frames()
+        return 0
+    if args.print_mapping:
+        print_mapping()
         return 0
     if not args.port:
         parser.error("give --port PATH (the twin prints its pty path, or use its --link)")
