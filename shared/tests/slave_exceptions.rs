@@ -409,6 +409,52 @@ fn demands_written_in_exception_are_overwritten() {
     assert!((rig.steer.angle - 40.0).abs() < 2.0, "{}", rig.steer.angle);
 }
 
+/// A demand written in exception is gone after the reset even when no control update
+/// came between them (a drive updates every 150 ms, a position motor every 2 ms): the
+/// board drops both demands as it leaves the exception. One written after the reset is
+/// kept.
+#[test]
+fn a_demand_written_just_before_the_reset_is_dropped_too() {
+    let mut rig = DsRig::new();
+    rig.bench.calibrate();
+    rig.run_ms(10);
+    rig.bench.write(REG_EXCEPTIONDATA, 100);
+    rig.run_ms(300);
+    rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
+    rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
+    // Applied in exception, then the reset at the next tick: no drive update between.
+    rig.tick();
+    let drive = rig.bench.core.motor(MotorId::M1);
+    assert!(
+        drive.params.required > Fix::from_num(999),
+        "taken in exception"
+    );
+    rig.bench.write(REG_RESET, 1);
+    rig.tick();
+    assert_eq!(rig.bench.read(REG_STATUS) & 1, 0, "out of exception");
+    assert_eq!(rig.bench.core.motor(MotorId::M1).params.required, Fix::ZERO);
+    let steer = rig.bench.core.motor(MotorId::M2);
+    // Its angle: the steer stood still through the exception.
+    assert_eq!(
+        steer.params.required,
+        steer.params.calibration.angle(rig.steer.reading())
+    );
+    let before = rig.steer.angle;
+    rig.run_ms(2000);
+    assert!(rig.wheel.speed.abs() < 1.0, "{}", rig.wheel.speed);
+    assert!(
+        (rig.steer.angle - before).abs() < 1.0,
+        "{before} → {}",
+        rig.steer.angle
+    );
+    // The same demands written after the reset are followed.
+    rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
+    rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
+    rig.run_ms(3000);
+    assert!((rig.steer.angle - 40.0).abs() < 2.0, "{}", rig.steer.angle);
+    assert!(rig.wheel.speed > 900.0, "{}", rig.wheel.speed);
+}
+
 #[test]
 fn control_keeps_the_last_applied_duty_in_exception() {
     let mut rig = LlRig::new();

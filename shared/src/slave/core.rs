@@ -59,7 +59,7 @@ use super::motor::{Kind, Motor, UpdateContext};
 use super::registers::RegisterFile;
 use super::scale::{Mapping, Scale};
 use super::silence::{SilenceWatch, BUS_TIMEOUT_POWER_ON_MS};
-use super::state::{Cause, Event, LocalFault, ResetBits, State};
+use super::state::{Cause, Event, LocalFault, ResetBits, State, Transition};
 use crate::pid::Fix;
 use crate::progmem::Flash;
 use crate::regs::{id, DS, LL};
@@ -575,7 +575,16 @@ impl<B: Board> Core<B> {
     /// each caller passes only the event.
     #[inline(never)]
     fn handle(&mut self, event: Event) {
-        self.state.handle(event, self.disabled());
+        if self.state.handle(event, self.disabled()) == Transition::Left {
+            // Leaving the exception drops both demands, as an update in exception does
+            // ([`Motor::drop_demand`]): a demand written in exception, or one from before
+            // it, never survives the reset, even where no update came between (a drive
+            // updates every 150 ms). A demand written after the reset is kept.
+            let variant = self.board.variant();
+            let [m1, m2] = &mut self.motors;
+            m1.drop_demand(Kind::of(variant, MotorId::M1));
+            m2.drop_demand(Kind::of(variant, MotorId::M2));
+        }
     }
 
     fn raise(&mut self, fault: Option<LocalFault>, motor: MotorId) {

@@ -428,6 +428,18 @@ impl Motor {
         self.at_rest = false;
     }
 
+    /// Replaces the demand as an update in exception does (position: required := the
+    /// last measured angle; drive: required := 0): the board does it as it leaves an
+    /// exception, since a drive updates only every 150 ms and a demand written in
+    /// exception would otherwise survive a reset that came before the next update.
+    #[inline(always)]
+    pub fn drop_demand(&mut self, kind: Kind) {
+        self.params.required = match kind {
+            Kind::Position => self.track.pid.last_actual(),
+            Kind::Drive => Fix::ZERO,
+        };
+    }
+
     /// The angle of a pot reading, by the calibration ([`Calibration::angle`]). The last
     /// conversion is kept, so a motor at rest (the same reading again) costs none; it
     /// is forgotten when a parameter is set through [`Motor::set_param`], so the
