@@ -8,7 +8,7 @@ use shared::exception::ExceptionType;
 use shared::mapping;
 use shared::regs::{id, BoardKind};
 
-use super::pc::{device_of, Motor, Pairs, Pc, WHEELS};
+use super::pc::{device_of, Motor, Pairs, Pc, Send, WHEELS};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
 use crate::exception::{type_name, Exception};
@@ -162,8 +162,9 @@ impl Poller {
 }
 
 /// The demands a board has dropped: an exception sets its drive's required speed to 0 and a
-/// position motor's to where it stands (reference §6.4), until a new demand is sent.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// position motor's to where it stands (reference §6.4), until a new demand is sent. So
+/// does the board's leaving it (REG_RESET bit 0), for a demand sent while it was in it.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Dropped {
     /// Per wheel and motor, how many demands it had been sent when its board was last
     /// seen in exception.
@@ -177,9 +178,51 @@ pub struct Dropped {
     /// (a watchdog or power reset: the boot state is never raised otherwise) and is back
     /// on its boot calibration.
     in_boot: [Option<bool>; 10],
+    /// Per controller 1..9, whether it is in exception as far as this session knows: at
+    /// first every one (opening the port rebooted the rover into its boot exception),
+    /// then as each update reads it, or as a write to its REG_RESET changes it.
+    held: [bool; 10],
+}
+
+impl Default for Dropped {
+    /// A session's start: every controller in its boot exception.
+    fn default() -> Self {
+        Dropped {
+            at: Default::default(),
+            calibration_at: Default::default(),
+            in_boot: Default::default(),
+            held: [true; 10],
+        }
+    }
 }
 
 impl Dropped {
+    /// Notes a write the master acknowledged: every demand sent to a controller in
+    /// exception is one it drops (the board replaces it at its updates, and as it leaves
+    /// the exception); then a reset of `send`'s controller takes it out of its exception
+    /// (bit 0) or reboots it into its boot exception (bit 1).
+    pub fn note_sent(&mut self, send: &Send, pc: &Pc) {
+        self.mark_held(pc);
+        let held = &mut self.held[usize::from(send.device).min(9)];
+        if send.hard_resets() {
+            *held = true;
+        } else if send.leaves_exception() {
+            *held = false;
+        }
+    }
+
+    /// Marks the demands sent so far to every controller in exception as dropped.
+    fn mark_held(&mut self, pc: &Pc) {
+        for wheel in WHEELS {
+            for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
+                if self.held[usize::from(device_of(wheel, motor))] {
+                    let (w, m) = (usize::from(wheel - 1), motor.index());
+                    self.at[w][m] = Some(pc.demand_sends(wheel, motor));
+                }
+            }
+        }
+    }
+
     /// Notes every motor whose board `s` shows in exception, and every position motor
     /// whose board did not answer or is seen to have rebooted.
     pub fn note(&mut self, s: &Snapshot, pc: &Pc) {
@@ -191,13 +234,16 @@ impl Dropped {
             rebooted[device] = *last == Some(false) && now;
             *last = Some(now);
         }
+        for device in 1..=9u8 {
+            if s.raw(device, id::REG_STATUS).is_some() {
+                self.held[usize::from(device)] = slave_exception(s, device).is_some();
+            }
+        }
+        self.mark_held(pc);
         for wheel in WHEELS {
             for motor in [Motor::Drive, Motor::Steer, Motor::Lift] {
                 let (w, m) = (usize::from(wheel - 1), motor.index());
                 let device = device_of(wheel, motor);
-                if slave_exception(s, device).is_some() {
-                    self.at[w][m] = Some(pc.demand_sends(wheel, motor));
-                }
                 let lost = s.silent.contains(&device) || rebooted[usize::from(device)];
                 if motor != Motor::Drive && lost {
                     self.calibration_at[w][m] = Some(pc.calibration_writes(wheel, motor));
@@ -626,6 +672,45 @@ mod tests {
         let lines = view(&pc, &dropped);
         assert!(lines[3].starts_with("2            600 "), "{}", lines[3]);
         assert!(!lines.iter().any(|l| l.starts_with("(…)")));
+    }
+
+    /// Notes `op`'s frame as sent, as a run does once the master acknowledged it.
+    fn sent(dropped: &mut Dropped, op: &super::super::pc::Op, pc: &Pc) {
+        if let super::super::pc::Op::Write(send) = op {
+            dropped.note_sent(send, pc);
+        }
+    }
+
+    #[test]
+    fn a_demand_sent_before_the_reset_is_shown_dropped_and_one_after_it_in_force() {
+        let mut pc = Pc::new();
+        pc.calibrate().unwrap();
+        let mut dropped = Dropped::default();
+        // At the session's start every board is in its boot exception, seen or not.
+        let op = pc.set_required(1, Motor::Drive, 500.0).unwrap();
+        sent(&mut dropped, &op, &pc);
+        for op in super::super::pc::reset_exceptions_of(Pairs::ALL).unwrap() {
+            sent(&mut dropped, &op, &pc);
+        }
+        let lines = view(&pc, &dropped);
+        assert!(lines[2].starts_with("1          (500) "), "{}", lines[2]);
+        // After the reset a demand is in force.
+        let op = pc.set_required(1, Motor::Drive, 600.0).unwrap();
+        sent(&mut dropped, &op, &pc);
+        let lines = view(&pc, &dropped);
+        assert!(lines[2].starts_with("1            600 "), "{}", lines[2]);
+        // A hard reset reboots the board into its boot exception: a demand sent then is
+        // dropped.
+        let hard = Send {
+            device: 1,
+            frame: vec![5, 0x12, 1, id::REG_RESET, 2],
+            what: "REG_RESET",
+        };
+        dropped.note_sent(&hard, &pc);
+        let op = pc.set_required(1, Motor::Drive, 700.0).unwrap();
+        sent(&mut dropped, &op, &pc);
+        let lines = view(&pc, &dropped);
+        assert!(lines[2].starts_with("1          (700) "), "{}", lines[2]);
     }
 
     #[test]

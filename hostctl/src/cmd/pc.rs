@@ -277,17 +277,26 @@ impl Send {
         self.frame.get(2).copied().unwrap_or_default()
     }
 
-    /// Whether the frame hard-resets a controller: its one write (length, address, count 1,
-    /// id, value) is REG_RESET with bit 1 (value 2) set (the master's own reset register,
-    /// id 0 too, has no such bit).
+    /// Whether the frame hard-resets a controller: its one write is REG_RESET with bit 1
+    /// (value 2) set.
     pub fn hard_resets(&self) -> bool {
-        self.device != 0
-            && self.writes() == 1
-            && self.frame.get(3) == Some(&id::REG_RESET)
-            && self
-                .frame
-                .get(4)
-                .is_some_and(|&low| u16::from(low) & HARD_RESET != 0)
+        self.reset_bits()
+            .is_some_and(|bits| u16::from(bits) & HARD_RESET != 0)
+    }
+
+    /// Whether the frame takes a controller out of its exception: its one write is
+    /// REG_RESET with bit 0 set.
+    pub fn leaves_exception(&self) -> bool {
+        self.reset_bits().is_some_and(|bits| bits & 1 != 0)
+    }
+
+    /// The bits of a frame whose one write (length, address, count 1, id, value) is a
+    /// controller's REG_RESET (the master's own reset register, id 0 too, is no such
+    /// register).
+    fn reset_bits(&self) -> Option<u8> {
+        let one_reset =
+            self.device != 0 && self.writes() == 1 && self.frame.get(3) == Some(&id::REG_RESET);
+        one_reset.then(|| self.frame.get(4).copied()).flatten()
     }
 }
 

@@ -120,6 +120,10 @@ pub const TICK: Duration = Duration::from_millis(10);
 pub const REDRAW: Duration = Duration::from_millis(200);
 /// How often `watch` prints a view.
 pub const LOG_EVERY: Duration = Duration::from_secs(1);
+/// The pause before each write that takes a board out of its exception: two of the
+/// board's 1-ms ticks, so that no demand sent before it reaches the board in the reset's
+/// tick (see the note where it is used).
+pub const RESET_GAP: Duration = Duration::from_millis(2);
 
 /// Where the output goes and how.
 pub struct Output<'a> {
@@ -452,6 +456,12 @@ fn act<P: Port>(
                 .push(SetRead::new(*target, *set, regs.clone())?);
         }
         Action::Op(Op::Write(send)) => {
+            if send.leaves_exception() {
+                // A board takes the registers written in one 1-ms tick in id order,
+                // REG_RESET first: a demand sent just before would count as sent after
+                // the reset and be kept, where the view takes it as dropped.
+                clock.sleep(RESET_GAP);
+            }
             let reply = link.transact(send.device, &send.frame, 1)?;
             let code = reply.first().copied().unwrap_or_default();
             if code != 0 {
@@ -465,6 +475,7 @@ fn act<P: Port>(
                         .unwrap_or_else(|| "not a known error code".to_owned()),
                 });
             }
+            session.dropped.note_sent(send, &line.pc);
         }
         Action::Op(Op::Pause(d)) => clock.sleep(*d),
         Action::Say(text) if output.json => {
@@ -979,6 +990,25 @@ mod tests {
     }
 
     #[test]
+    fn each_reset_out_of_an_exception_comes_two_board_ticks_after_what_went_before() {
+        // `reset`: REG_RESET 1 to the nine controllers, then the master's reset; a hard
+        // reset (bit 1) is no way out of an exception and waits for nothing.
+        let mut replies = configure_replies();
+        replies.extend(std::iter::repeat_n(vec![0], 11));
+        let ran = run_script(
+            "reset
+write 4 reset 2
+",
+            &replies,
+            false,
+        );
+        ran.result.unwrap();
+        assert_eq!(ran.hex[10], "05 12 01 00 01");
+        assert_eq!(ran.hex[20], "05 42 01 00 02");
+        assert_eq!(ran.pauses, [RESET_GAP; 9]);
+    }
+
+    #[test]
     fn a_script_runs_in_one_session_with_its_pauses_and_view() {
         let mut replies = configure_replies();
         replies.push(vec![0]);
@@ -1015,9 +1045,10 @@ mod tests {
              board is in its boot exception, so nothing will move\n\
              > drive 1 1000\n> calibrate\n> wait 0.01\n"
         ));
-        // All-zero replies unmap to the bottom of each range.
+        // All-zero replies unmap to the bottom of each range. The demand went to a board
+        // in its boot exception (no `reset`): dropped.
         assert!(
-            text.contains("\n1           1000    -4000          -  -200.0         -  -200.0  -\n"),
+            text.contains("\n1         (1000)    -4000          -  -200.0         -  -200.0  -\n"),
             "{text}"
         );
         assert!(
@@ -1047,15 +1078,19 @@ mod tests {
                 r#"{"command":"run","line":3,"text":"wait 0.01"}"#,
             ]
         );
-        // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000,
-        // nothing else was sent (null). No `calibrate`: the positions are not degrees.
-        let wheel = |n: u8, drive: &str| {
+        // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000
+        // while its board was in its boot exception (no `reset`), so it is dropped; nothing
+        // else was sent (null). No `calibrate`: the positions are not degrees.
+        let wheel = |n: u8, drive: &str, dropped: &str| {
             format!(
-                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true}},"steer":{{"required":null,"actual":-200,"calibrated":false}},"lift":{{"required":null,"actual":-200,"calibrated":false}},"exceptions":null}}"#
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true{dropped}}},"steer":{{"required":null,"actual":-200,"calibrated":false}},"lift":{{"required":null,"actual":-200,"calibrated":false}},"exceptions":null}}"#
             )
         };
         let wheels: Vec<String> = (1..=6)
-            .map(|n| wheel(n, if n == 1 { "1000" } else { "null" }))
+            .map(|n| match n {
+                1 => wheel(n, "1000", r#","dropped":true"#),
+                _ => wheel(n, "null", ""),
+            })
             .collect();
         assert_eq!(
             lines[6],
