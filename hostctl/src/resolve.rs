@@ -314,17 +314,64 @@ fn power_on_integer(reg: &Register) -> u16 {
     }
 }
 
+/// The end of its range a reading stands at, where the rover clamps what it reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// Raw 0: the range's low end, or anything below it.
+    Lower,
+    /// Raw F or above: the range's high end, or anything above it.
+    Upper,
+}
+
+impl Limit {
+    /// The sign written before such a value: "≤" or "≥".
+    pub fn sign(self) -> &'static str {
+        match self {
+            Limit::Lower => "≤",
+            Limit::Upper => "≥",
+        }
+    }
+
+    /// Its name in JSON: "lower" or "upper".
+    pub fn name(self) -> &'static str {
+        match self {
+            Limit::Lower => "lower",
+            Limit::Upper => "upper",
+        }
+    }
+}
+
+/// Whether `raw` of `reg` is a reading at an end of the register's range. A read-only
+/// mapped register holds a value the board (or the master) measured and mapped with
+/// clamping (reference §3), so its ends stand for "this or beyond": a board at 110 °C
+/// reads 100. A low end at 0 or above is no clamp (an interval, the chassis pot: nothing
+/// reads below it), and a writable register holds what was written.
+pub fn limit_of(reg: &Register, raw: u16) -> Option<Limit> {
+    let range = reg.range.filter(|_| !reg.writable)?;
+    if u32::from(raw) >= mapping::full_scale(reg.size) {
+        Some(Limit::Upper)
+    } else if raw == 0 && range.min < 0.0 {
+        Some(Limit::Lower)
+    } else {
+        None
+    }
+}
+
 /// A register's value for people: unmapped registers as integers, mapped ones with three
-/// decimals.
+/// decimals, a reading at its range's end with "≥" or "≤" ([`limit_of`]).
 pub fn show(reg: &Register, raw: u16) -> String {
     if reg.range.is_none() {
         return raw.to_string();
     }
     let text = format!("{:.3}", mapping::unmap(raw, reg));
-    if text == "-0.000" {
+    let text = if text == "-0.000" {
         "0.000".to_owned()
     } else {
         text
+    };
+    match limit_of(reg, raw) {
+        Some(limit) => format!("{}{text}", limit.sign()),
+        None => text,
     }
 }
 

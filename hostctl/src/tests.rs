@@ -139,7 +139,11 @@ fn a_position_right_after_the_port_opened_is_not_called_degrees() {
     o.result.unwrap();
     assert_eq!(
         o.out,
-        format!("device 1 REGDS_STEER_ACTUALPOS = 200.000 deg (raw 0xfffe)\n{note}")
+        format!(
+            "device 1 REGDS_STEER_ACTUALPOS = ≥200.000 deg (raw 0xfffe)\nnote: at the end of the \
+             register's range (-200 to 200): the reading is 200 deg or more, since the rover \
+             clamps what it reports to that range\n{note}"
+        )
     );
     let o = hostctl("--json read 3 ONE_ACTUALPOS", &[&[0x01][..], &[0xfe, 0xff]]);
     assert!(
@@ -509,6 +513,47 @@ fn a_temperature_the_master_has_not_read_is_no_reading() {
 }
 
 #[test]
+fn a_reading_at_the_end_of_its_range_is_not_shown_as_exact() {
+    // Controller 9's sensor read at 0xfffe: the master clamps anything hotter than 100 °C.
+    let hot: [&[u8]; 2] = [&[0x02], &[0xfe, 0xff, 0x00, 0x02]];
+    let o = hostctl("read 0 TEMP9", &hot);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_TEMP9 = ≥100.000 degC (raw 0xfffe)\nnote: at the end of the \
+         register's range (-20 to 100): the reading is 100 degC or more, since the rover \
+         clamps what it reports to that range\n"
+    );
+    let o = hostctl("--json read 0 TEMP9", &hot);
+    assert!(
+        o.out
+            .ends_with(",\"value\":100,\"unit\":\"degC\",\"at_limit\":\"upper\",\"read\":true}\n"),
+        "{}",
+        o.out
+    );
+    // A drive's error below its range: -1000 or less.
+    let o = hostctl("--json read 1 drive_error", &[&[0x01][..], &[0x00, 0x00]]);
+    assert!(
+        o.out
+            .contains("\"value\":-1000,\"unit\":\"ticks/s\",\"at_limit\":\"lower\""),
+        "{}",
+        o.out
+    );
+    // A written parameter holds what was written, and an interval of 0 ms is 0: no mark.
+    let o = hostctl("read 1 drive_reqspeed", &[&[0x01][..], &[0xfe, 0xff]]);
+    assert!(
+        o.out
+            .starts_with("device 1 REGDS_DRIVE_REQSPEED = 4000.000 ticks/s (raw 0xfffe)\n"),
+        "{}",
+        o.out
+    );
+    let o = hostctl("read 1 drive_intervalctrl", &[&[0x01][..], &[0x00, 0x00]]);
+    assert_eq!(
+        o.out,
+        "device 1 REGDS_DRIVE_INTERVALCTRL = 0.000 ms (raw 0x0000)\n"
+    );
+}
+
+#[test]
 fn read_stops_when_the_set_is_not_accepted() {
     let o = hostctl("read 1 TIMER", &[[0x86]]);
     assert_eq!(o.port.frames_hex(), ["04 14 07 01"]);
@@ -705,13 +750,14 @@ fn watch_standard_set_0_polls_every_ds_board() {
          counts  ticks/256             deg*         deg*                                   deg*           \
          duty                  ms         counts"
     );
-    // All-zero replies: mapped registers read their minimum, unmapped ones 0.
+    // All-zero replies: mapped registers read their minimum, unmapped ones 0; a
+    // read-only register's minimum below 0 stands for it or less (≤).
     assert_eq!(
         lines[3],
-        "1        0            0       0              0    0.000          -4000.000    \
-         -1000.000            -1000.000          -200.000       -255.000               0.000              \
-         0          0         -200.000     -200.000            -1000.000          -200.000       \
-         -255.000               0.000              0"
+        "1        0            0       0              0    0.000         ≤-4000.000   \
+         ≤-1000.000           ≤-1000.000         ≤-200.000      ≤-255.000               0.000              \
+         0          0        ≤-200.000    ≤-200.000           ≤-1000.000         ≤-200.000      \
+         ≤-255.000               0.000              0"
     );
     assert_eq!(lines[8], lines[3].replacen('1', "8", 1));
 }

@@ -15,7 +15,7 @@ use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
 use crate::port::Port;
-use crate::resolve::Target;
+use crate::resolve::{self, Target};
 
 /// `object` with register `reg`'s members for `--json`: id, name, raw, value in units and
 /// unit, and `read` when the register is a master temperature (`read` its TEMPSREAD bit):
@@ -37,8 +37,10 @@ pub fn register_json(
     )
 }
 
-/// `object` with `reg`'s name, raw, value (`null` when `no_value`) and unit, then the
-/// boolean member `flag` if any, then `exception` for an EXCEPTIONDATA value.
+/// `object` with `reg`'s name, raw, value (`null` when `no_value`) and unit, `at_limit`
+/// ("lower" or "upper") for a reading at its range's end ([`resolve::limit_of`]: that
+/// value or beyond), then the boolean member `flag` if any, then `exception` for an
+/// EXCEPTIONDATA value.
 pub fn value_json(
     object: json::Object,
     reg: &Register,
@@ -53,6 +55,10 @@ pub fn value_json(
         object.num("value", mapping::unmap(raw, reg))
     }
     .str("unit", reg.unit);
+    let object = match resolve::limit_of(reg, raw) {
+        Some(limit) if !no_value => object.str("at_limit", limit.name()),
+        _ => object,
+    };
     let object = match flag {
         Some((key, value)) => object.bool(key, value),
         None => object,

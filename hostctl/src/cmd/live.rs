@@ -271,13 +271,41 @@ impl Dropped {
 /// The actual speed or position of `motor` of `wheel`, read from the snapshot: its board's
 /// ACTUALSPEED or ACTUALPOS (lift ONE on odd wheels, TWO on even ones).
 pub(crate) fn actual(s: &Snapshot, wheel: u8, motor: Motor) -> Option<f32> {
-    let reg = match motor {
+    s.value(device_of(wheel, motor), actual_register(wheel, motor))
+}
+
+/// The register [`actual`] reads.
+fn actual_register(wheel: u8, motor: Motor) -> u8 {
+    match motor {
         Motor::Drive => id::REGDS_DRIVE_ACTUALSPEED,
         Motor::Steer => id::REGDS_STEER_ACTUALPOS,
         Motor::Lift if wheel % 2 == 1 => id::REGLL_ONE_ACTUALPOS,
         Motor::Lift => id::REGLL_TWO_ACTUALPOS,
-    };
-    s.value(device_of(wheel, motor), reg)
+    }
+}
+
+/// [`actual`] for the view, as [`reading`] writes it.
+fn actual_text(s: &Snapshot, wheel: u8, motor: Motor, decimals: usize) -> String {
+    reading(
+        s,
+        device_of(wheel, motor),
+        actual_register(wheel, motor),
+        decimals,
+    )
+}
+
+/// The value of `reg` of `device` with `decimals` ("?" when not read), marked "≥" or "≤"
+/// at its range's end, which holds any reading beyond it ([`resolve::limit_of`]).
+fn reading(s: &Snapshot, device: u8, reg: u8, decimals: usize) -> String {
+    let text = cell(s.value(device, reg), decimals);
+    let limit = BoardKind::of_device(device)
+        .and_then(|kind| kind.register(reg))
+        .zip(s.raw(device, reg))
+        .and_then(|(register, raw)| resolve::limit_of(register, raw));
+    match limit {
+        Some(limit) => format!("{}{text}", limit.sign()),
+        None => text,
+    }
 }
 
 /// A slave's exception as update() decodes it: the type while STATUS bit 0 is set.
@@ -397,12 +425,12 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
     };
     // A sensor the master has not read since boot (or cannot find) holds 0.0 °C, which
     // is no reading: shown as "-".
-    let temp = |reg: u8| match s.raw(0, reg) {
-        _ if s.no_reading(0, reg) => "-".to_owned(),
-        // The register's ends (-20..100 °C) hold any reading beyond them.
-        Some(0) => "≤-20.0".to_owned(),
-        Some(0xfffe..) => "≥100.0".to_owned(),
-        _ => cell(s.value(0, reg), 1),
+    let temp = |reg: u8| {
+        if s.no_reading(0, reg) {
+            "-".to_owned()
+        } else {
+            reading(s, 0, reg, 1)
+        }
     };
     let ambient = temp(id::REGMASTER_TEMPAMBIENT);
     let temps: Vec<String> = (id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9)
@@ -451,9 +479,9 @@ pub fn view_lines(
     let mut exceptions = vec!["exceptions".to_owned(), String::new()];
     // A position on a pot scale that is not the wheel's is marked, not passed off as degrees.
     let mut uncalibrated = false;
-    let mut position = |v: Option<f32>, wheel: u8, motor: Motor| {
-        let text = cell(v, 1);
-        if v.is_none() || dropped.calibrated(pc, wheel, motor) {
+    let mut position = |wheel: u8, motor: Motor| {
+        let text = actual_text(s, wheel, motor, 1);
+        if actual(s, wheel, motor).is_none() || dropped.calibrated(pc, wheel, motor) {
             text
         } else {
             uncalibrated = true;
@@ -468,19 +496,19 @@ pub fn view_lines(
                 0,
                 dropped.has(pc, wheel, Motor::Drive),
             ),
-            cell(actual(s, wheel, Motor::Drive), 0),
+            actual_text(s, wheel, Motor::Drive, 0),
             demand(
                 pc.demand(wheel, Motor::Steer),
                 1,
                 dropped.has(pc, wheel, Motor::Steer),
             ),
-            position(actual(s, wheel, Motor::Steer), wheel, Motor::Steer),
+            position(wheel, Motor::Steer),
             demand(
                 pc.demand(wheel, Motor::Lift),
                 1,
                 dropped.has(pc, wheel, Motor::Lift),
             ),
-            position(actual(s, wheel, Motor::Lift), wheel, Motor::Lift),
+            position(wheel, Motor::Lift),
         ]);
         exceptions.push(wheel_exceptions(s, wheel));
     }

@@ -110,6 +110,22 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
         raw,
         width = usize::from(reg.size) * 2,
     );
+    let text = match (resolve::limit_of(reg, raw), reg.range) {
+        (Some(limit), Some(range)) => {
+            let (end, beyond) = match limit {
+                resolve::Limit::Lower => (range.min, "or less"),
+                resolve::Limit::Upper => (range.max, "or more"),
+            };
+            format!(
+                "{text}\nnote: at the end of the register's range ({} to {}): the reading is {end}{} \
+                 {beyond}, since the rover clamps what it reports to that range",
+                range.min,
+                range.max,
+                resolve::unit_suffix(reg),
+            )
+        }
+        _ => text,
+    };
     if boot_scale {
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
     } else if boot_end {

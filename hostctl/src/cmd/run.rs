@@ -870,7 +870,7 @@ mod tests {
         let text = ran.text;
         assert!(
             text.contains(
-                "\n3              -        ?          -        ?         -  -200.0*  controller 4: \
+                "\n3              -        ?          -         ?         -  ≤-200.0*  controller 4: \
                  no answer\n"
             ),
             "{text}"
@@ -984,7 +984,7 @@ mod tests {
         assert_eq!(hex[10], "05 14 03 14 11");
         assert_eq!(hex[21], "03 13 03");
         assert!(
-            text.contains("\ndevice 1: DRIVE_CONTROL 0.000 duty, DRIVE_ERROR 1000.000 ticks/s\n"),
+            text.contains("\ndevice 1: DRIVE_CONTROL 0.000 duty, DRIVE_ERROR ≥1000.000 ticks/s\n"),
             "{text}"
         );
     }
@@ -1048,7 +1048,9 @@ write 4 reset 2
         // All-zero replies unmap to the bottom of each range. The demand went to a board
         // in its boot exception (no `reset`): dropped.
         assert!(
-            text.contains("\n1         (1000)    -4000          -  -200.0         -  -200.0  -\n"),
+            text.contains(
+                "\n1         (1000)   ≤-4000          -  ≤-200.0         -  ≤-200.0  -\n"
+            ),
             "{text}"
         );
         assert!(
