@@ -871,6 +871,42 @@ fn watch_json_gives_one_line_per_device_per_round() {
     );
 }
 
+#[test]
+fn a_watch_says_positions_and_calibration_ends_are_on_the_boot_calibration() {
+    // Controller 1 alone: STEER_ACTUALPOS and STEER_CALIBMIN as a board fresh from boot
+    // shows them (its calibration -512..512; the 1-byte end reads -120, raw 0).
+    let replies: [&[u8]; 2] = [&[0x02], &[0x98, 0x99, 0x00]];
+    let args = "watch --readset 4 --device 1 --count 1 --interval-ms 0 steer_actualpos \
+                steer_calibmin";
+    let o = hostctl(&format!("--json {args}"), &replies);
+    o.result.unwrap();
+    assert!(
+        o.out
+            .contains("\"value\":39.99756,\"unit\":\"deg\",\"boot_calibration\":true}"),
+        "{}",
+        o.out
+    );
+    assert!(
+        o.out
+            .contains("\"value\":-120,\"unit\":\"deg\",\"boot_calibration\":true}"),
+        "{}",
+        o.out
+    );
+    let o = hostctl(args, &replies);
+    o.result.unwrap();
+    assert!(
+        o.out.contains("\n1             39.998       -120.000*\n"),
+        "{}",
+        o.out
+    );
+    assert!(
+        o.out
+            .contains("\n* a calibration end at its register's end"),
+        "{}",
+        o.out
+    );
+}
+
 /// Two rounds of TIMER from set 1's controllers (3, 6, 9), as the replies below script them.
 const WATCH_SET_1_TWICE: &str = "watch --readset 1 --count 2 --interval-ms 0 TIMER";
 

@@ -380,6 +380,7 @@ pub fn table_lines(round: &Round) -> Vec<String> {
         table.headers = vec![names, units];
     }
     let mut unread = false;
+    let mut boot_end = false;
     let mut silent = Vec::new();
     let mut lost = Vec::new();
     for row in &round.rows {
@@ -403,6 +404,10 @@ pub fn table_lines(round: &Round) -> Vec<String> {
             if row.is_reading(reg) == Some(false) {
                 unread = true;
                 "-".to_owned()
+            } else if row.target.device != 0 && fresh::is_boot_calibration_end(reg, raw) {
+                // A calibration end as a board fresh from boot shows it: it uses ±512.
+                boot_end = true;
+                format!("{}*", resolve::show(reg, raw))
             } else {
                 resolve::show(reg, raw)
             }
@@ -415,6 +420,13 @@ pub fn table_lines(round: &Round) -> Vec<String> {
         lines.push(
             "* not degrees: opening the port rebooted the rover, so the boards are on their \
              boot calibration (pot 0..1023 as -512..512)"
+                .to_owned(),
+        );
+    }
+    if boot_end {
+        lines.push(
+            "* a calibration end at its register's end: not what the board uses, which is \
+             -512..512 from boot until CALIBMIN and CALIBMAX are written"
                 .to_owned(),
         );
     }
@@ -441,8 +453,21 @@ pub fn json_lines(round: &Round) -> Vec<String> {
             let values = match &row.reading {
                 Reading::Values(raws) => {
                     json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
-                        fresh::register_json(json::Object::new(), reg, raw, row.is_reading(reg))
-                            .finish()
+                        let object = fresh::register_json(
+                            json::Object::new(),
+                            reg,
+                            raw,
+                            row.is_reading(reg),
+                        );
+                        // As `read` says it: the port's opening rebooted the boards.
+                        let boot = row.target.device != 0
+                            && (fresh::on_calibrated_scale(reg)
+                                || fresh::is_boot_calibration_end(reg, raw));
+                        if boot {
+                            object.bool("boot_calibration", true).finish()
+                        } else {
+                            object.finish()
+                        }
                     }))
                 }
                 Reading::NoAnswer | Reading::Lost => "null".to_owned(),
