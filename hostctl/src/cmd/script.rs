@@ -27,7 +27,7 @@
 use std::time::Duration;
 
 use shared::protocol::READ_SET_SIZE;
-use shared::regs::Register;
+use shared::regs::{id, Register};
 
 use super::pc::{self, Motor, Op, Pairs, Pc, WHEELS};
 use super::write;
@@ -141,6 +141,7 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         matches!(first_word(l), "drive" | "steer" | "turn" | "lift")
     }
     let mut notes = hard_reset_notes(lines);
+    notes.extend(pc_timeout_notes(lines));
     let Some(demand) = lines.iter().find(is_demand) else {
         return notes;
     };
@@ -178,6 +179,40 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
                  closing the port reboots the rover, which stops it; put `wait SECONDS` after it",
                 last.number
             ));
+        }
+    }
+    notes
+}
+
+/// The shortest REGMASTER_PCTIMEOUT a run keeps: a reply the serial line loses costs
+/// hostctl a 1-s wait (the library's reply timeout) and a probe before its next frame, so
+/// a shorter timeout would stop every motor on one lost byte.
+pub const PC_TIMEOUT_MIN_MS: u16 = 1_500;
+
+/// A PC-silence timeout (a write of REGMASTER_PCTIMEOUT) shorter than
+/// [`PC_TIMEOUT_MIN_MS`] but not 0 (off).
+fn pc_timeout_notes(lines: &[Line]) -> Vec<String> {
+    let mut notes = Vec::new();
+    for line in lines {
+        for action in &line.actions {
+            let Action::Op(Op::Write(send)) = action else {
+                continue;
+            };
+            // Its one write: length, address, count 1, id, value LSB, MSB.
+            let ms = match send.frame.as_slice() {
+                [_, _, 1, reg, lo, hi] if send.device == 0 && *reg == id::REGMASTER_PCTIMEOUT => {
+                    u16::from_le_bytes([*lo, *hi])
+                }
+                _ => continue,
+            };
+            if ms != 0 && ms < PC_TIMEOUT_MIN_MS {
+                notes.push(format!(
+                    "line {} sets the PC-silence failsafe to {ms} ms: hostctl waits up to 1 s \
+                     for a reply the serial line lost before its next frame, so one lost byte \
+                     would stop every motor; use {PC_TIMEOUT_MIN_MS} ms or more",
+                    line.number
+                ));
+            }
         }
     }
     notes
@@ -478,6 +513,16 @@ mod tests {
         assert!(notes("reset\ndrive 1 100\ncalibrate\nwait 1").is_empty());
         // No demand, nothing to note.
         assert!(notes("calibrate\nwait 1").is_empty());
+        // A PC-silence failsafe a lost byte would trip; 0 (off) and 1500 ms are fine.
+        assert_eq!(
+            notes("write 0 pctimeout 500\ncalibrate\nwait 1"),
+            [
+                "line 1 sets the PC-silence failsafe to 500 ms: hostctl waits up to 1 s for a \
+                 reply the serial line lost before its next frame, so one lost byte would stop \
+                 every motor; use 1500 ms or more"
+            ]
+        );
+        assert!(notes("write 0 pctimeout 1500\nwrite 0 pctimeout 0\nwait 1").is_empty());
     }
 
     #[test]
