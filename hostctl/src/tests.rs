@@ -259,6 +259,15 @@ fn write_takes_negative_values_and_register_numbers() {
     let o = hostctl("write 4 RESET 1", &WRITTEN_RUNNING);
     o.result.unwrap();
     assert_eq!(o.port.frames_hex()[0], "05 42 01 00 01");
+    // A value clap alone would take for a flag: -0.5 maps to raw 0x7fad on ±200.
+    let o = hostctl("write 1 26 -.5", &WRITTEN_RUNNING);
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex()[0], "06 12 01 1a ad 7f");
+    // -inf reaches hostctl's own check, which refuses it naming the register's range.
+    let o = hostctl("write 1 26 -inf", &WRITTEN_RUNNING);
+    let message = o.result.unwrap_err().to_string();
+    assert!(message.contains("allowed -200..200 deg"), "{message}");
+    assert!(o.port.frames_hex().is_empty());
 }
 
 #[test]

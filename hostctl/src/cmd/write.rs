@@ -19,6 +19,9 @@ pub struct Args {
     /// Register name (e.g. REGDS_DRIVE_REQSPEED or drive_reqspeed) or number.
     pub register: String,
     /// Value in the register's engineering units, e.g. 1000 (ticks/s) or -40 (°).
+    // Any word starting with '-' is a value here (e.g. -.5, which clap would otherwise
+    // take for a flag); hostctl's own parser then checks it.
+    #[arg(allow_hyphen_values = true)]
     pub value: String,
 }
 
