@@ -46,45 +46,9 @@ COMMON = [
     (1, W, None),  # 7 PING
     (2, W, None),  # 8 DEBUG
 ]
-DS = COMMON + [
-    (2, W, (-4000, 4000)),  # 9 DRIVE_REQSPEED
-    (2, W, (0, 10)),  # 10 DRIVE_PGAIN
-    (2, W, (0, 10)),  # 11 DRIVE_IGAIN
-    (2, W, (-10, 10)),  # 12 DRIVE_DGAIN
-    (2, W, (0, 1000)),  # 13 DRIVE_INTEGRALCAP
-    (2, W, (0, 1)),  # 14 DRIVE_INTEGRALDECAY
-    (2, W, (0, 1000)),  # 15 DRIVE_OVERCURRENTTHRESH
-    (2, R, (-4000, 4000)),  # 16 DRIVE_ACTUALSPEED
-    (2, R, (-1000, 1000)),  # 17 DRIVE_ERROR
-    (2, R, (-1000, 1000)),  # 18 DRIVE_ERRORINTEGRAL
-    (2, R, (-200, 200)),  # 19 DRIVE_ERRORDERIV
-    (2, R, (-255, 255)),  # 20 DRIVE_CONTROL
-    (2, R, (0, 1000)),  # 21 DRIVE_INTERVALCTRL
-    (2, R, None),  # 22 DRIVE_CURRENT
-    (2, R, None),  # 23 DRIVE_ODO
-    (1, W, (0, 255)),  # 24 DRIVE_STALLCHECK
-    (1, W, (0, 50)),  # 25 DRIVE_DEADZONE
-    (2, W, (-200, 200)),  # 26 STEER_REQPOS
-    (2, W, (0, 100)),  # 27 STEER_PGAIN
-    (2, W, (0, 10)),  # 28 STEER_IGAIN
-    (2, W, (-10, 10)),  # 29 STEER_DGAIN
-    (2, W, (0, 1000)),  # 30 STEER_INTEGRALCAP
-    (2, W, (0, 1)),  # 31 STEER_INTEGRALDECAY
-    (2, W, (0, 1000)),  # 32 STEER_OVERCURRENTTHRESH
-    (2, R, (-200, 200)),  # 33 STEER_ACTUALPOS
-    (2, R, (-200, 200)),  # 34 STEER_ERROR
-    (2, R, (-1000, 1000)),  # 35 STEER_ERRORINTEGRAL
-    (2, R, (-200, 200)),  # 36 STEER_ERRORDERIV
-    (2, R, (-255, 255)),  # 37 STEER_CONTROL
-    (2, R, (0, 1000)),  # 38 STEER_INTERVALCTRL
-    (2, R, None),  # 39 STEER_CURRENT
-    (1, W, (0, 255)),  # 40 STEER_STALLCHECK
-    (1, W, (0, 50)),  # 41 STEER_DEADZONE
-    (1, W, (-120, 120)),  # 42 STEER_CALIBMIN
-    (1, W, (-120, 120)),  # 43 STEER_CALIBMAX
-    (2, R, (0, 1024)),  # 44 CHASSIS
-]
-LIFT_BLOCK = [
+# A position motor's first 14 registers, the same on a steer (DS ids 26-39) and a lift
+# (LL ONE ids 9-22, TWO ids 27-40).
+POSITION_HEAD = [
     (2, W, (-200, 200)),  # +0 REQPOS
     (2, W, (0, 100)),  # +1 PGAIN
     (2, W, (0, 10)),  # +2 IGAIN
@@ -99,11 +63,35 @@ LIFT_BLOCK = [
     (2, R, (-255, 255)),  # +11 CONTROL
     (2, R, (0, 1000)),  # +12 INTERVALCTRL
     (2, R, None),  # +13 CURRENT
-    (1, W, (-120, 120)),  # +14 CALIBMIN
-    (1, W, (-120, 120)),  # +15 CALIBMAX
-    (1, W, (0, 255)),  # +16 STALLCHECK
-    (1, W, (0, 50)),  # +17 DEADZONE
 ]
+STALLCHECK, DEADZONE, CALIB = (1, W, (0, 255)), (1, W, (0, 50)), (1, W, (-120, 120))
+DS = (
+    COMMON
+    + [
+        (2, W, (-4000, 4000)),  # 9 DRIVE_REQSPEED
+        (2, W, (0, 10)),  # 10 DRIVE_PGAIN
+        (2, W, (0, 10)),  # 11 DRIVE_IGAIN
+        (2, W, (-10, 10)),  # 12 DRIVE_DGAIN
+        (2, W, (0, 1000)),  # 13 DRIVE_INTEGRALCAP
+        (2, W, (0, 1)),  # 14 DRIVE_INTEGRALDECAY
+        (2, W, (0, 1000)),  # 15 DRIVE_OVERCURRENTTHRESH
+        (2, R, (-4000, 4000)),  # 16 DRIVE_ACTUALSPEED
+        (2, R, (-1000, 1000)),  # 17 DRIVE_ERROR
+        (2, R, (-1000, 1000)),  # 18 DRIVE_ERRORINTEGRAL
+        (2, R, (-200, 200)),  # 19 DRIVE_ERRORDERIV
+        (2, R, (-255, 255)),  # 20 DRIVE_CONTROL
+        (2, R, (0, 1000)),  # 21 DRIVE_INTERVALCTRL
+        (2, R, None),  # 22 DRIVE_CURRENT
+        (2, R, None),  # 23 DRIVE_ODO
+        STALLCHECK,  # 24 DRIVE_STALLCHECK
+        DEADZONE,  # 25 DRIVE_DEADZONE
+    ]
+    + POSITION_HEAD  # 26-39 STEER_REQPOS .. STEER_CURRENT
+    + [STALLCHECK, DEADZONE, CALIB, CALIB]  # 40-43: STALLCHECK DEADZONE CALIBMIN CALIBMAX
+    + [(2, R, (0, 1024))]  # 44 CHASSIS
+)
+# The lift block orders its last four unlike the steer's (section 2.3).
+LIFT_BLOCK = POSITION_HEAD + [CALIB, CALIB, STALLCHECK, DEADZONE]  # +14 .. +17
 LL = COMMON + LIFT_BLOCK + LIFT_BLOCK  # TWO = ONE + 18
 MASTER = [(1, W, None)] + [(2, R, (-20, 100))] * 10 + [(2, R, None)]
 assert len(DS) == 45 and len(LL) == 45 and len(MASTER) == 12
