@@ -227,17 +227,15 @@ impl Dropped {
     /// whose board did not answer or is seen to have rebooted.
     pub fn note(&mut self, s: &Snapshot, pc: &Pc) {
         let mut rebooted = [false; 10];
-        for (device, last) in self.in_boot.iter_mut().enumerate().skip(1) {
-            let Some(now) = in_boot(s, device as u8) else {
+        for device in 1..=9u8 {
+            // `None`: no STATUS read from it this update.
+            let Some(now) = in_boot(s, device) else {
                 continue;
             };
-            rebooted[device] = *last == Some(false) && now;
-            *last = Some(now);
-        }
-        for device in 1..=9u8 {
-            if s.raw(device, id::REG_STATUS).is_some() {
-                self.held[usize::from(device)] = slave_exception(s, device).is_some();
-            }
+            let d = usize::from(device);
+            rebooted[d] = self.in_boot[d] == Some(false) && now;
+            self.in_boot[d] = Some(now);
+            self.held[d] = slave_exception(s, device).is_some();
         }
         self.mark_held(pc);
         for wheel in WHEELS {
