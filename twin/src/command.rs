@@ -11,7 +11,7 @@
 //! | `temp I CELSIUS` | Set what sensor I measures (0.5 °C steps) |
 //! | `drop-serial N [to-master\|to-host]` | Lose the next N bytes on the serial line (to the master if not named) |
 //! | `rc on\|off` | Start / stop the RC receiver's pulses |
-//! | `rc CH US` | Set RC channel CH's pulse width (µs) |
+//! | `rc CH US` | Set RC channel CH's pulse width (µs, 500..2500) |
 //! | `status` | Emulated time, speed, faults and every wheel's physical state |
 //! | `time` | Emulated time since power-up, µs (`hostctl` waits in it for the slaves to boot) |
 
@@ -132,7 +132,7 @@ const SPIKE: &str = "spike W drive|steer|lift AMPS MS   (0 < AMPS <= 10.24, 0 < 
 const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
 const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9; -55 <= CELSIUS <= 125)";
 const DROP: &str = "drop-serial N [to-master|to-host]";
-const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode)";
+const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode; US = 500..2500)";
 
 fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
     word.parse().map_err(|_| CommandError::BadNumber {
@@ -195,6 +195,22 @@ fn positive_up_to(
             what: name,
             given: word.to_owned(),
             allowed,
+        })
+    }
+}
+
+/// An RC pulse width the receiver model sends: one outside it is refused rather than
+/// clamped, so the channel is never set to a width other than the one asked for.
+fn rc_width(word: &str) -> Result<u16, CommandError> {
+    let us: u16 = number(word, "a pulse width in µs")?;
+    let (min, max) = harness::rc::WIDTH_RANGE_US;
+    if (min..=max).contains(&us) {
+        Ok(us)
+    } else {
+        Err(CommandError::OutOfRange {
+            what: "the RC pulse width (µs)",
+            given: word.to_owned(),
+            allowed: "500 to 2500 µs (what a receiver sends; the sticks span about 940 to 1940)",
         })
     }
 }
@@ -290,7 +306,7 @@ impl Command {
             ("rc", [state]) => Ok(Command::Rc(on_off(state, RC)?)),
             ("rc", [ch, us]) => Ok(Command::RcWidth {
                 channel: number(ch, "an RC channel (0..2)")?,
-                us: number(us, "a pulse width in µs")?,
+                us: rc_width(us)?,
             }),
             ("rc", _) => Err(CommandError::Usage(RC)),
             ("status", []) => Ok(Command::Status),
@@ -561,6 +577,28 @@ mod tests {
             );
         }
         assert_eq!(Command::parse("rc"), Err(CommandError::Usage(RC)));
+        // A width the receiver cannot send is refused, not clamped to its end.
+        for us in ["499", "2501", "5000"] {
+            assert_eq!(
+                Command::parse(&format!("rc 1 {us}"))
+                    .err()
+                    .map(|e| e.to_string()),
+                Some(format!(
+                    "the RC pulse width (µs) `{us}` is out of range; give 500 to 2500 µs (what \
+                     a receiver sends; the sticks span about 940 to 1940)"
+                ))
+            );
+        }
+        assert_eq!(
+            e("rc 1 70000").as_deref(),
+            Some("`70000` is not a pulse width in µs")
+        );
+        for (line, us) in [("rc 0 500", 500), ("rc 2 2500", 2500)] {
+            assert!(
+                matches!(Command::parse(line), Ok(Command::RcWidth { us: u, .. }) if u == us),
+                "{line}"
+            );
+        }
         assert_eq!(Command::parse("reboot"), Err(CommandError::Usage(REBOOT)));
         assert_eq!(
             Command::parse("status now"),

@@ -54,6 +54,19 @@ fn a_drop_of_no_byte_is_refused_not_reported_as_set() {
 }
 
 #[test]
+fn an_rc_width_the_receiver_cannot_send_is_refused_not_clamped() {
+    let control = scratch("rcwidth");
+    let out = inject(&control, &["rc", "1", "5000"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.stdout, b"");
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        "twin: the RC pulse width (µs) `5000` is out of range; give 500 to 2500 µs (what a \
+         receiver sends; the sticks span about 940 to 1940)\n"
+    );
+}
+
+#[test]
 fn a_refusal_by_the_twin_reads_like_one_here() {
     let control = scratch("remote");
     let _ = std::fs::remove_file(&control);
