@@ -449,8 +449,12 @@ fn act<P: Port>(
 ) -> Result<(), HostError> {
     match action {
         Action::Show { target, regs, set } => {
-            let frame = set_frame(*target, *set, regs)?;
-            configure(link, *target, *set, &frame, regs.len())?;
+            // A set an earlier line took holds these ids already (the script gives a set to
+            // one id list only), and the master's table serves every device.
+            if !session.shown.iter().any(|read| read.set == *set) {
+                let frame = set_frame(*target, *set, regs)?;
+                configure(link, *target, *set, &frame, regs.len())?;
+            }
             session
                 .shown
                 .push(SetRead::new(*target, *set, regs.clone())?);
@@ -986,6 +990,33 @@ mod tests {
         assert!(
             text.contains("\ndevice 1: DRIVE_CONTROL 0.000 duty, DRIVE_ERROR ≥1000.000 ticks/s\n"),
             "{text}"
+        );
+    }
+
+    #[test]
+    fn show_lines_with_the_same_registers_share_one_set_on_several_boards() {
+        let mut replies = configure_replies();
+        // One set-read-set for both lines, then per update the ten reads and both boards'
+        // 2-byte show reads.
+        replies.push(vec![1]);
+        replies.extend(update_replies());
+        replies.push(vec![0xff, 0x7f]);
+        replies.push(vec![0x00, 0x00]);
+        let ran = run_script(
+            "show 1 drive_control\nshow 4 drive_control\nwait 0\n",
+            &replies,
+            false,
+        );
+        ran.result.unwrap();
+        let hex = ran.hex;
+        assert_eq!(hex[10], "04 14 03 14", "set 3 := DRIVE_CONTROL, sent once");
+        assert_eq!(hex[21..], ["03 13 03", "03 43 03"]);
+        assert!(
+            ran.text.contains(
+                "\ndevice 1: DRIVE_CONTROL 0.000 duty\ndevice 4: DRIVE_CONTROL ≤-255.000 duty\n"
+            ),
+            "{}",
+            ran.text
         );
     }
 

@@ -16,7 +16,7 @@
 //! | `stop` | The operator's emergency stop (§10.3): 36 frames, every demand 0 |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
-//! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (at most four such lines: read sets 3..6) |
+//! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (read sets 3..6: at most four different register lists, as lines naming the same registers share a set) |
 //! | `say TEXT` | Print TEXT (up to a comment) |
 //!
 //! The whole script is checked, and its frames built, before anything is sent: a bad line
@@ -50,7 +50,7 @@ pub enum Action {
     /// Print a line.
     Say(String),
     /// Add registers of a device to every later live view (each such line takes one of the
-    /// read sets [`SHOW_SETS`]).
+    /// read sets [`SHOW_SETS`], [`ShowSets`]).
     Show {
         /// The device.
         target: Target,
@@ -63,6 +63,33 @@ pub enum Action {
 
 /// The read sets `show` lines use, in order: 0..2 are the library's, 7 is hostctl's scratch.
 pub const SHOW_SETS: [u8; 4] = [3, 4, 5, 6];
+
+/// The read sets `show` lines take. A set holds register ids only, and a read resolves them
+/// on the device it addresses (reference §4.2), so a line whose registers have the same ids
+/// as an earlier line's, on any device, shares that line's set: `show 1 drive_control`,
+/// `show 4 drive_control`, … take one set for any number of boards.
+#[derive(Debug, Default)]
+struct ShowSets {
+    /// The id list of each set taken, in [`SHOW_SETS`] order.
+    taken: Vec<Vec<u8>>,
+}
+
+impl ShowSets {
+    /// The set for a line showing `regs`: the earlier line's with the same ids, else the next
+    /// free one; `None` when all four hold other lists.
+    fn take(&mut self, regs: &[&'static Register]) -> Option<u8> {
+        let ids: Vec<u8> = regs.iter().map(|r| r.id).collect();
+        let index = match self.taken.iter().position(|t| *t == ids) {
+            Some(i) => i,
+            None if self.taken.len() < SHOW_SETS.len() => {
+                self.taken.push(ids);
+                self.taken.len() - 1
+            }
+            None => return None,
+        };
+        SHOW_SETS.get(index).copied()
+    }
+}
 
 /// One checked script line.
 #[derive(Debug, Clone, PartialEq)]
@@ -90,8 +117,7 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
 pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, HostError> {
     let mut pc = Pc::with_pairs(pairs);
     let mut lines = Vec::new();
-    // `show` lines so far: the next one takes the next of SHOW_SETS.
-    let mut shows = 0;
+    let mut show_sets = ShowSets::default();
     // A byte-order mark (some editors write one) is no part of the first line.
     let source = source.strip_prefix('\u{feff}').unwrap_or(source);
     for (i, raw) in source.lines().enumerate() {
@@ -99,7 +125,7 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
         if text.is_empty() {
             continue;
         }
-        let actions = line(&mut pc, text, SHOW_SETS.get(shows).copied()).map_err(|why| {
+        let actions = line(&mut pc, text, &mut show_sets).map_err(|why| {
             // `#forward` or `1000#fwd` is text, not a comment: say how to write one.
             let hint = if text.contains('#') {
                 "; a comment is `#` followed by a space"
@@ -113,9 +139,6 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
                 why: format!("{why}{hint}"),
             }
         })?;
-        if actions.iter().any(|a| matches!(a, Action::Show { .. })) {
-            shows += 1;
-        }
         lines.push(Line {
             number: i + 1,
             text: text.to_owned(),
@@ -267,6 +290,8 @@ fn without_comment(raw: &str) -> &str {
 #[derive(Debug)]
 enum Why {
     Usage(&'static str),
+    /// A limit of the rover's, in words.
+    Limit(&'static str),
     Number(String),
     Host(HostError),
 }
@@ -275,6 +300,7 @@ impl std::fmt::Display for Why {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Why::Usage(u) => write!(f, "usage: {u}"),
+            Why::Limit(l) => write!(f, "{l}"),
             Why::Number(n) => write!(f, "`{n}` is not a number"),
             Why::Host(e) => write!(f, "{e}"),
         }
@@ -321,9 +347,9 @@ fn ops(list: Vec<Op>) -> Vec<Action> {
     list.into_iter().map(Action::Op).collect()
 }
 
-/// One line's actions, updating the library state `pc`; a `show` line takes read set
-/// `show_set` (`None`: every one is taken).
-fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Why> {
+/// One line's actions, updating the library state `pc`; a `show` line takes a read set of
+/// `show_sets`.
+fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>, Why> {
     let words: Vec<&str> = text.split_whitespace().collect();
     let set = |pc: &mut Pc, motor, targets: &[u8], value| -> Result<Vec<Action>, Why> {
         targets
@@ -351,15 +377,18 @@ fn line(pc: &mut Pc, text: &str, show_set: Option<u8>) -> Result<Vec<Action>, Wh
         }
         ["write", ..] => Err(Why::Usage("write DEV REG VALUE")),
         ["show", dev, regs @ ..] if !regs.is_empty() && regs.len() <= READ_SET_SIZE => {
-            let set = show_set.ok_or(Why::Usage(
-                "at most four `show` lines (read sets 3..6): name more registers on one line",
-            ))?;
             let target = resolve::device(dev)?;
             pc.pairs().check_device(target.device)?;
             let regs = regs
                 .iter()
                 .map(|r| resolve::register(target, r))
                 .collect::<Result<Vec<_>, _>>()?;
+            let set = show_sets.take(&regs).ok_or(Why::Limit(
+                "the four read sets for `show` (3..6) hold four other register lists already; \
+                 a line naming the same registers as an earlier one, on any device, shares \
+                 its set (`show 4 drive_control` after `show 1 drive_control`), so give \
+                 boards of a kind the same list",
+            ))?;
             Ok(vec![Action::Show { target, regs, set }])
         }
         ["show", ..] => Err(Why::Usage("show DEV REG [REG …]   (1 to 24 registers)")),
@@ -433,11 +462,29 @@ mod tests {
             &lines[1].actions[..],
             [Action::Show { set: 4, regs, .. }] if regs.len() == 2
         ));
-        let five = "show 1 timer\n".repeat(5);
-        let err = parse("s", &five).unwrap_err().to_string();
-        assert!(
-            err.contains("line 5") && err.contains("at most four `show` lines"),
-            "{err}"
+        // The same registers share a set on any device: five boards' drive duty in one.
+        let same = "show 1 drive_control\nshow 2 drive_control\nshow 4 drive_control\n\
+                    show 5 drive_control\nshow 7 drive_control\n";
+        let sets: Vec<(u8, u8)> = parse("s", same)
+            .unwrap()
+            .iter()
+            .flat_map(|l| &l.actions)
+            .filter_map(|a| match a {
+                Action::Show { target, set, .. } => Some((target.device, *set)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(sets, [(1, 3), (2, 3), (4, 3), (5, 3), (7, 3)]);
+        // Four other lists take every set; a fifth is refused with the way round it.
+        let five = "show 1 timer\nshow 1 drive_control\nshow 1 steer_control\n\
+                    show 1 timer drive_control\nshow 2 steer_control\nshow 1 drive_reqspeed\n";
+        let err = parse("s", five).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "s line 6 (`show 1 drive_reqspeed`): the four read sets for `show` (3..6) hold four \
+             other register lists already; a line naming the same registers as an earlier \
+             one, on any device, shares its set (`show 4 drive_control` after `show 1 \
+             drive_control`), so give boards of a kind the same list"
         );
         let err = parse("s", "show 1 one_control").unwrap_err().to_string();
         assert!(err.contains("LL table"), "{err}");
