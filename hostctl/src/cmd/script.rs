@@ -153,7 +153,8 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// `reset` line (every board is in its boot exception after the port opens, so nothing
 /// acts on a demand until a reset), a demand before the first `reset` (a board in
 /// exception replaces its demands, reference §6.4: that one is lost), or demands with no
-/// `calibrate` line (the gains stay 0, so nothing moves), or a last demand with no `wait`
+/// `calibrate` line (the gains stay 0, so nothing moves), a demand after a `stop` before
+/// the next `calibrate` (the stop sets the gains to 0), or a last demand with no `wait`
 /// or `watch` after it (the script's end reboots the rover at once). A demand before the
 /// calibration but after the reset is kept and acts once the gains arrive.
 pub fn notes(lines: &[Line]) -> Vec<String> {
@@ -190,6 +191,9 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
             demand.number
         ));
     }
+    if has("calibrate") {
+        notes.extend(after_stop_notes(lines));
+    }
     // The script's end closes the port, which reboots the rover: a last demand with no
     // wait after it has no time to act.
     if let Some(last) = lines.iter().rev().find(is_demand) {
@@ -202,6 +206,33 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
                  closing the port reboots the rover, which stops it; put `wait SECONDS` after it",
                 last.number
             ));
+        }
+    }
+    notes
+}
+
+/// A demand after a `stop` with no `calibrate` (or `write`, which may set gains) between
+/// them: the stop sends every motor the library's default block, whose gains are 0
+/// (reference §10.3), so the demand moves nothing.
+fn after_stop_notes(lines: &[Line]) -> Vec<String> {
+    let word = |l: &Line| l.text.split_whitespace().next().unwrap_or("").to_owned();
+    let mut notes = Vec::new();
+    let mut stop = None;
+    for line in lines {
+        match word(line).as_str() {
+            "stop" => stop = Some(line.number),
+            "calibrate" | "write" => stop = None,
+            "drive" | "steer" | "turn" | "lift" => {
+                if let Some(at) = stop.take() {
+                    notes.push(format!(
+                        "line {} sends a demand after the `stop` on line {at}, which set every \
+                         motor's gains to 0 until a `calibrate`, so it moves nothing before \
+                         one; put `calibrate` after the stop",
+                        line.number
+                    ));
+                }
+            }
+            _ => {}
         }
     }
     notes
@@ -560,6 +591,28 @@ mod tests {
         assert!(notes("reset\ndrive 1 100\ncalibrate\nwait 1").is_empty());
         // No demand, nothing to note.
         assert!(notes("calibrate\nwait 1").is_empty());
+        // A demand after a stop, whose gains are 0, until a calibrate: noted once a stop.
+        assert_eq!(
+            notes("calibrate\nreset\ndrive all 100\nwait 1\nstop\ndrive all 200\nlift 1 5\nwait 1"),
+            [
+                "line 6 sends a demand after the `stop` on line 5, which set every motor's \
+                 gains to 0 until a `calibrate`, so it moves nothing before one; put \
+                 `calibrate` after the stop"
+            ]
+        );
+        assert_eq!(
+            notes("calibrate\nreset\nstop\ndrive 1 1\ncalibrate\nwait 1").len(),
+            1,
+            "still nothing before the calibrate"
+        );
+        assert!(notes("calibrate\nreset\nstop\ncalibrate\ndrive all 100\nwait 1").is_empty());
+        assert!(
+            notes("calibrate\nreset\nstop\nwrite 1 drive_pgain 0.01\ndrive 1 100\nwait 1")
+                .is_empty(),
+            "gains written by hand"
+        );
+        // With no calibrate at all, the one note says so.
+        assert_eq!(notes("reset\nstop\ndrive 1 100\nwait 1").len(), 1);
         // A PC-silence failsafe a lost byte would trip; 0 (off) and 1500 ms are fine.
         assert_eq!(
             notes("write 0 pctimeout 500\ncalibrate\nwait 1"),
