@@ -5,6 +5,8 @@ use std::io;
 use shared::master::LinkError;
 use shared::protocol::{DecodeError, EncodeError};
 
+use crate::twin::Inject;
+
 /// One `hostctl` failure. Every message names what was wrong and how to fix
 /// it; bad input is caught before anything is sent.
 #[derive(Debug, thiserror::Error)]
@@ -235,7 +237,7 @@ pub enum HostError {
     Io(#[from] io::Error),
 
     /// The reply did not arrive in time.
-    #[error("{}", timeout_words(*device, *expected, *got, *master))]
+    #[error("{}", timeout_words(*device, *expected, *got, *master, inject))]
     Timeout {
         /// The device addressed.
         device: u8,
@@ -245,6 +247,8 @@ pub enum HostError {
         got: usize,
         /// What the master said when asked for its last link error afterwards.
         master: MasterSays,
+        /// How the advice reaches a twin behind the port.
+        inject: Inject,
     },
 
     /// The master's start-up banner arrived in the middle of a session.
@@ -261,7 +265,7 @@ pub enum HostError {
     },
 
     /// The master reported a failed write.
-    #[error("{}: code {code:#04x} ({words}); {}", refused_what(*device, register, *writes), refusal_advice(*device, *code))]
+    #[error("{}: code {code:#04x} ({words}); {}", refused_what(*device, register, *writes), refusal_advice(*device, *code, inject))]
     WriteRefused {
         /// The device addressed.
         device: u8,
@@ -274,6 +278,8 @@ pub enum HostError {
         code: u8,
         /// What the code means.
         words: String,
+        /// How the advice reaches a twin behind the port.
+        inject: Inject,
     },
 
     /// Writes of one script line were refused; the line's other writes were still sent.
@@ -333,7 +339,13 @@ pub enum MasterSays {
 
 /// A timeout in words: the cause the master names, if it names one, else who did not
 /// answer; then what to do.
-fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) -> String {
+fn timeout_words(
+    device: u8,
+    expected: usize,
+    got: usize,
+    master: MasterSays,
+    inject: &Inject,
+) -> String {
     let late = format!("within 1 s ({got} of {expected} reply bytes)");
     let (code, count) = match master {
         MasterSays::Silent if device == 0 => {
@@ -391,7 +403,7 @@ fn timeout_words(device: u8, expected: usize, got: usize, master: MasterSays) ->
         }
         LinkError::NoAnswer if device != 0 => format!(
             "controller {device} is not answering the master on the I2C bus; check that it is \
-             fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
+             fitted and powered (on the twin: `{inject} restore {device}`), then reset the \
              rover{STILL_BOOTING}"
         ),
         LinkError::NoAnswer => {
@@ -433,11 +445,11 @@ fn refused_what(device: u8, register: &str, writes: u8) -> String {
 
 /// The next step after the master refused a write with error reply `code` (0x80 | the
 /// link error's code).
-fn refusal_advice(device: u8, code: u8) -> String {
+fn refusal_advice(device: u8, code: u8, inject: &Inject) -> String {
     match LinkError::from_code(code & !shared::master::ERROR_REPLY_FLAG) {
         Some(LinkError::NoAnswer) => format!(
             "controller {device} is not answering the master on the I2C bus; check that it is \
-             fitted and powered (on the twin: `twin inject restore {device}`), then reset the \
+             fitted and powered (on the twin: `{inject} restore {device}`), then reset the \
              rover{STILL_BOOTING}"
         ),
         _ => "the frame reached the master damaged or not as sent; retry, and reset the rover \

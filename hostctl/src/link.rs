@@ -14,6 +14,7 @@ use crate::banner::{self, BannerFailure};
 use crate::cmd::read::SCRATCH_SET;
 use crate::error::{HostError, MasterSays};
 use crate::port::{Port, SerialPort};
+use crate::twin::Inject;
 
 /// How long a reply may take (reference §4.7: 1 s, no retries).
 pub const REPLY_TIMEOUT: Duration = Duration::from_secs(1);
@@ -60,6 +61,8 @@ pub struct Link<P: Port> {
     /// Whether a probe has overwritten the scratch set since [`Link::take_scratch_clobbered`]
     /// last asked.
     scratch_clobbered: bool,
+    /// How advice reaches the twin behind this port, if it is one.
+    inject: Inject,
 }
 
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
@@ -97,7 +100,10 @@ impl<P: Port> Link<P> {
         }
         std::thread::sleep(settle);
         port.set_timeout(REPLY_TIMEOUT)?;
-        Ok(Self::ready(port))
+        Ok(Self {
+            inject: Inject::for_port(path),
+            ..Self::ready(port)
+        })
     }
 
     /// Wraps a port that is already past the banner (tests, reconnects).
@@ -108,7 +114,13 @@ impl<P: Port> Link<P> {
             silent: 0,
             lost_in_a_row: [0; 128],
             scratch_clobbered: false,
+            inject: Inject::default(),
         }
+    }
+
+    /// The `twin inject` command for the twin behind this port, for advice in messages.
+    pub fn inject(&self) -> &Inject {
+        &self.inject
     }
 
     /// REGMASTER_ERRORCOUNT as the last probe after a timeout read it (`None`: no probe
@@ -232,6 +244,7 @@ impl<P: Port> Link<P> {
                 expected: reply_len,
                 got,
                 master: self.master_says(),
+                inject: self.inject.clone(),
             });
         }
         let mut extra = self.stray()?;
@@ -441,6 +454,7 @@ mod tests {
                 expected: 2,
                 got: 1,
                 master: MasterSays::Silent,
+                ..
             }) => {}
             other => panic!("unexpected {other:?}"),
         }
@@ -467,6 +481,7 @@ mod tests {
             expected: 2,
             got: 0,
             master: MasterSays::Answered { code, count: 1 },
+            inject: Inject::default(),
         };
         let mut link = Link::ready(FakePort::default());
         for _ in 0..MAX_LOST_IN_A_ROW {
@@ -497,6 +512,7 @@ mod tests {
             expected: 2,
             got: 0,
             master: MasterSays::Silent,
+            inject: Inject::default(),
         };
         assert!(!link.forgive(&silent, 1, None));
         assert!(!link.forgive(&HostError::MasterRebooted, 1, None));

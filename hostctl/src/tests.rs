@@ -582,6 +582,7 @@ fn read_with_a_short_reply_times_out() {
             expected: 2,
             got: 1,
             master: MasterSays::Silent,
+            ..
         })
     ));
 }
@@ -1268,6 +1269,7 @@ fn watch_stops_at_the_first_failed_read() {
             expected: 2,
             got: 1,
             master: MasterSays::Silent,
+            ..
         })
     ));
     assert!(o.out.is_empty());

@@ -47,6 +47,38 @@ pub fn control_of(link: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
+/// The `twin inject` command line that reaches the twin behind a port, for advice in
+/// messages: the default link's twin needs no option, a twin at another path `--link PATH`.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Inject {
+    /// The port, when it is not the default link.
+    link: Option<String>,
+}
+
+impl Inject {
+    /// The command for the twin whose pty is `port`.
+    pub fn for_port(port: &str) -> Self {
+        let link = (Path::new(port) != default_link()).then(|| port.to_owned());
+        Self { link }
+    }
+}
+
+impl std::fmt::Display for Inject {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.link {
+            None => write!(f, "twin inject"),
+            // A path a shell would split or expand is quoted, so the line can be pasted.
+            Some(p)
+                if p.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "/._-+:,@".contains(c)) =>
+            {
+                write!(f, "twin inject --link {p}")
+            }
+            Some(p) => write!(f, "twin inject --link '{}'", p.replace('\'', r"'\''")),
+        }
+    }
+}
+
 /// Whether a live twin serves `link`: the link leads to a device and the twin's control
 /// socket answers (a twin killed without cleaning up leaves neither alive).
 pub fn is_running(link: &Path) -> bool {
@@ -209,6 +241,24 @@ pub fn join_or_start(note: &mut dyn FnMut(&str)) -> Result<String, HostError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_inject_advice_names_a_port_that_is_not_the_default_link() {
+        let default = default_link();
+        assert_eq!(
+            Inject::for_port(&default.to_string_lossy()).to_string(),
+            "twin inject"
+        );
+        assert_eq!(
+            Inject::for_port("/tmp/lab/rover").to_string(),
+            "twin inject --link /tmp/lab/rover"
+        );
+        assert_eq!(
+            Inject::for_port("/tmp/my rover's pty").to_string(),
+            r"twin inject --link '/tmp/my rover'\''s pty'"
+        );
+        assert_eq!(Inject::default().to_string(), "twin inject");
+    }
 
     #[test]
     fn the_control_socket_sits_next_to_the_link() {

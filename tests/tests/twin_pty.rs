@@ -339,6 +339,48 @@ fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
     twin.finish();
 }
 
+#[test]
+fn hostctl_s_advice_for_a_silent_controller_names_the_twin_it_is_talking_to() {
+    use clap::Parser;
+    let twin = Linked::start("twin-pty-advice");
+    twin::control::send(&twin.control, "cut 4").expect("the twin cuts controller 4 off");
+    let cli = hostctl::Cli::try_parse_from([
+        "hostctl",
+        "--port",
+        &twin.port,
+        "write",
+        "4",
+        "drive_reqspeed",
+        "0",
+    ])
+    .unwrap();
+    let style = hostctl::Style {
+        json: false,
+        in_place: false,
+        width: || None,
+    };
+    let mut out = Vec::new();
+    let open = |p: &str| hostctl::link::open_serial(p, Duration::ZERO);
+    let err = hostctl::run(&cli, None, open, style, &mut out)
+        .expect_err("controller 4 is off the bus")
+        .to_string();
+    // The twin is not at the default link, so the advice says which twin to restore it on.
+    let advice = format!(
+        "(on the twin: `twin inject --link {} restore 4`)",
+        twin.port
+    );
+    assert!(
+        err.starts_with("device 4 refused the write to REGDS_DRIVE_REQSPEED: code 0x8c")
+            && err.contains(&advice),
+        "{err}"
+    );
+    // `twin inject --link PORT` reaches the socket next to PORT: this twin's.
+    let socket = twin::paths::control_of(std::path::Path::new(&twin.port));
+    let reply = twin::control::send(&socket, "restore 4").unwrap();
+    assert!(!reply.starts_with("error"), "{reply}");
+    twin.finish();
+}
+
 /// Runs the Python client of `examples/python`: a PC program written from the reference
 /// alone, with its own tables, float32 mapping and frames, sharing no code with this
 /// project. Returns its stdout; fails the test with its stderr if it fails.

@@ -477,6 +477,7 @@ fn act<P: Port>(
                     words: super::reply_error(code)
                         .map(|e| e.describe().to_string())
                         .unwrap_or_else(|| "not a known error code".to_owned()),
+                    inject: link.inject().clone(),
                 });
             }
             session.dropped.note_sent(send, &line.pc);

@@ -75,6 +75,7 @@ pub fn run<P: Port>(plan: &Plan, link: &mut Link<P>, json: bool) -> Result<Strin
             words: super::reply_error(code)
                 .map(|e| e.describe().to_string())
                 .unwrap_or_else(|| "not a known error code".to_owned()),
+            inject: link.inject().clone(),
         });
     }
     // Whether anything will act on it: a controller fresh from the port's reboot will not.
