@@ -50,8 +50,9 @@ pub struct Args {
     /// The script, e.g. examples/demo.rover.
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
-    /// The wheel pairs fitted, as the library's init() mask: pair p is wheels 2p+1 and
-    /// 2p+2 on controllers 3p+1..3p+3 (e.g. `--pairs 0` for a bench with the rear pair, wheels 1 and 2).
+    /// The wheel pairs fitted, as a list of pair numbers (not the library's init() mask,
+    /// which sets bit p for pair p): pair p is wheels 2p+1 and 2p+2 on controllers
+    /// 3p+1..3p+3 (e.g. `--pairs 0` for a bench with the rear pair, wheels 1 and 2).
     /// Only these are polled, and `all`, calibrate, reset, stop and turn reach only them.
     #[arg(long, value_name = "P,…", default_value = "0,1,2")]
     pub pairs: String,
