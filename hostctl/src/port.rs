@@ -20,33 +20,79 @@ pub const BAUD: u32 = 115_200;
 pub const DTR_PULSE: Duration = Duration::from_millis(10);
 
 /// The real link: a serial device such as `/dev/ttyACM0` or the twin's pty.
+///
+/// Closing it resets the master, which through its boot stops every motor: the port has
+/// HUPCL set, as the original library sets it (reference §4.1), from the open and again at
+/// the close (a program may clear it meanwhile: `stty -F PORT -hupcl`, an IDE), and the
+/// close drops DTR itself where the device has the line.
 pub struct SerialPort {
     inner: Box<dyn serialport::SerialPort>,
+    /// The descriptor `inner` owns, for HUPCL.
+    #[cfg(unix)]
+    fd: std::os::fd::RawFd,
 }
 
 impl SerialPort {
-    /// Opens `path` at 115200 8N1 without flow control, then pulses DTR low
-    /// for 10 ms to reset the master.
+    /// Opens `path` at 115200 8N1 without flow control and with HUPCL set, then pulses
+    /// DTR low for 10 ms to reset the master.
     ///
     /// A pty has no DTR line; that failure is ignored, and so is the input
     /// flush that would otherwise follow the reset (without a reset, bytes
     /// already waiting may be the banner we are about to look for).
     pub fn open(path: &str, timeout: Duration) -> Result<Self, serialport::Error> {
-        let mut inner = serialport::new(path, BAUD)
+        let builder = serialport::new(path, BAUD)
             .data_bits(serialport::DataBits::Eight)
             .parity(serialport::Parity::None)
             .stop_bits(serialport::StopBits::One)
             .flow_control(serialport::FlowControl::None)
-            .timeout(timeout)
-            .open()?;
-        let pulsed = inner.write_data_terminal_ready(false).is_ok();
+            .timeout(timeout);
+        #[cfg(unix)]
+        let mut port = {
+            use std::os::fd::AsRawFd;
+            let native = builder.open_native()?;
+            let fd = native.as_raw_fd();
+            let port = Self {
+                inner: Box::new(native),
+                fd,
+            };
+            port.hang_up_on_close().map_err(io::Error::from)?;
+            port
+        };
+        #[cfg(not(unix))]
+        let mut port = Self {
+            inner: builder.open()?,
+        };
+        let pulsed = port.inner.write_data_terminal_ready(false).is_ok();
         std::thread::sleep(DTR_PULSE);
-        let raised = inner.write_data_terminal_ready(true).is_ok();
+        let raised = port.inner.write_data_terminal_ready(true).is_ok();
         if pulsed && raised {
             // The master is rebooting; anything already buffered predates it.
-            let _ = inner.clear(serialport::ClearBuffer::Input);
+            let _ = port.inner.clear(serialport::ClearBuffer::Input);
         }
-        Ok(Self { inner })
+        Ok(port)
+    }
+
+    /// Sets HUPCL, so that the last close of the port drops DTR.
+    #[cfg(unix)]
+    fn hang_up_on_close(&self) -> nix::Result<()> {
+        use nix::sys::termios::{tcgetattr, tcsetattr, ControlFlags, SetArg};
+        // SAFETY: `inner` owns the descriptor until `self` is gone, past this borrow.
+        let fd = unsafe { std::os::fd::BorrowedFd::borrow_raw(self.fd) };
+        let mut termios = tcgetattr(fd)?;
+        if !termios.control_flags.contains(ControlFlags::HUPCL) {
+            termios.control_flags.insert(ControlFlags::HUPCL);
+            tcsetattr(fd, SetArg::TCSANOW, &termios)?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for SerialPort {
+    fn drop(&mut self) {
+        // Best effort: a port that is gone resets the master by itself (USB unplugged).
+        #[cfg(unix)]
+        let _ = self.hang_up_on_close();
+        let _ = self.inner.write_data_terminal_ready(false);
     }
 }
 

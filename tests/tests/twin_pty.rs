@@ -62,6 +62,32 @@ fn a_serial_program_sees_the_banner_after_each_open() {
 }
 
 #[test]
+fn hostctl_sets_hupcl_so_its_close_resets_the_master_whatever_came_before() {
+    use nix::sys::termios::{tcgetattr, tcsetattr, ControlFlags, SetArg};
+    let pty = Pty::open().expect("a pty");
+    // A program before hostctl cleared HUPCL (`stty -F PORT -hupcl`, a common Arduino trick).
+    let other = std::fs::File::open(pty.path()).unwrap();
+    let mut termios = tcgetattr(&other).unwrap();
+    termios.control_flags.remove(ControlFlags::HUPCL);
+    tcsetattr(&other, SetArg::TCSANOW, &termios).unwrap();
+    drop(other);
+    assert!(!pty.hangs_up_on_close());
+    let port = hostctl::port::SerialPort::open(&pty.path().display().to_string(), Duration::ZERO)
+        .expect("the pty opens as a serial port");
+    assert!(
+        pty.hangs_up_on_close(),
+        "hostctl sets HUPCL as the original library does, so its close drops DTR"
+    );
+    // And again at its close, if another program cleared it while hostctl ran.
+    let other = std::fs::File::open(pty.path()).unwrap();
+    tcsetattr(&other, SetArg::TCSANOW, &termios).unwrap();
+    assert!(!pty.hangs_up_on_close());
+    drop(port);
+    assert!(pty.hangs_up_on_close());
+    drop(other);
+}
+
+#[test]
 fn hostctl_finds_the_twin_behind_a_link_and_waits_in_its_time() {
     let dir = std::env::temp_dir().join(format!("twin-pty-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
