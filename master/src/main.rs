@@ -185,8 +185,15 @@ fn idle(mut cx: idle::Context) -> ! {
     loop {
         traffic.watchdog.feed();
         let now = link::now_ms(&mut cx.shared.clock);
+        // The remote control counts from when the slaves are back from the boot resets
+        // (pings start then too): a link-up write (REG_RESET = 1) sent while they reboot
+        // is lost, and the link-up comes once per boot, so a transmitter on at power-up
+        // would never drive. Until then its edges are dropped.
+        let started = traffic.schedule.started();
         while let Some(edge) = cx.shared.edges.lock(|q| q.pop_front()) {
-            l.remote.edge(edge, now);
+            if started {
+                l.remote.edge(edge, now);
+            }
         }
         let rc_up = l.remote.link_up(now);
 

@@ -198,6 +198,7 @@ fn boot_hard_resets_slaves_1_to_9_once_and_then_waits_5_s() {
         rover.log
     );
     assert_eq!(s.phase(), Phase::Settling);
+    assert!(!s.started(), "the remote control waits as the pings do");
     assert!(s.booted());
     assert_eq!(latch, MasterLatch::boot(), "boot resets raise nothing");
 }
@@ -207,6 +208,7 @@ fn pings_start_after_5_s_and_repeat_when_more_than_1_s_has_passed() {
     let (mut s, mut latch, mut rover) = booted();
     rover.run(&mut s, &mut latch, 9_500_000);
     assert_eq!(s.phase(), Phase::Running);
+    assert!(s.started());
     let ping_starts: Vec<u64> = rover
         .log
         .iter()

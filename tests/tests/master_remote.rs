@@ -1,5 +1,6 @@
 //! Remote control in the emulator (reference §9.2): an RC receiver on D2..D4. The first
-//! link-up resets every board's exception and sends the drive and steer parameters to
+//! link-up (counted from 5 s after boot, once the slaves are back from the boot resets:
+//! new) resets every board's exception and sends the drive and steer parameters to
 //! the six drive/steer boards; then each pass sends REQSPEED and the Ackermann steer
 //! angles; PC frames get no reply while the link is up, and are answered again once it
 //! has been down for a second, when the master also stops the six drives (new: the
@@ -43,7 +44,21 @@ fn full_forward_and_a_held_turn_drive_the_six_boards() {
     rc.set_width(1, 940); // steer +1: the integrator runs down to −30°
     rc.set_width(2, 910); // mode −1: normal (not crab)
     rc.turn_on();
+    // Until the slaves are back from the boot resets (5 s after boot, when the pings
+    // start too) the master does not count the link: a link-up write sent to a slave
+    // still rebooting would be lost, and the link-up comes once per boot.
     rig.run_us(200_000);
+    assert!(rig.micros() < 4_800_000, "{} µs", rig.micros());
+    assert!(!rig.avr().pin(BLUE), "no link before the slaves are back");
+    for addr in 1..=9 {
+        assert_eq!(rig.slave(addr).writes.len(), 0, "{addr}");
+    }
+    assert_eq!(
+        rig.exchange(&[0x04, 0x04, 0x07, 0x01], 1),
+        [1],
+        "PC answered"
+    );
+    rig.run_to(5_200_000);
     assert!(rig.avr().pin(BLUE), "blue LED lit while the link is up");
 
     // First link-up: REG_RESET = 1 to 1..9, the parameters to the DS boards.
@@ -81,9 +96,11 @@ fn full_forward_and_a_held_turn_drive_the_six_boards() {
         );
     }
     for addr in [3, 6, 9] {
+        let s = rig.slave(addr);
+        let others: Vec<_> = s.writes.iter().filter(|w| w[0] != id::REG_PING).collect();
         assert_eq!(
-            rig.slave(addr).writes.len(),
-            1,
+            others,
+            [&vec![id::REG_RESET, 1]],
             "lift {addr}: only the reset"
         );
     }

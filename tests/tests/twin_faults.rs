@@ -3,7 +3,8 @@
 //! master's bound and, its bus-silence failsafe armed by the master's pings, stops its own
 //! wheel after BUSTIMEOUT, while the views go on past it; a rebooted slave stops its wheel and
 //! shows its boot state, its positions off calibration; a current spike raises a short; an
-//! unplugged temperature sensor raises type 10; the RC receiver takes over the drives; a PC
+//! unplugged temperature sensor raises type 10; the RC receiver takes over the drives, also
+//! with the transmitter on from power-up; a PC
 //! program that armed the PC-silence failsafe and then hangs gets every motor stopped.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
@@ -321,6 +322,36 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
     println!("RC transmitter off: every wheel below 50 ticks/s {waited:.1} s later");
     // And the PC is answered again.
     assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_ok());
+}
+
+#[test]
+fn a_transmitter_on_at_power_up_drives_once_the_slaves_are_back_from_their_boot() {
+    // The receiver sends from power-up: the master's boot hard-resets every slave, and
+    // the RC link-up's REG_RESET = 1 would reach them while they reboot and be lost.
+    let mut r = rover();
+    r.set_rc_width(0, 1000).unwrap();
+    r.set_rc_width(1, 1339).unwrap();
+    r.set_rc_width(2, 910).unwrap();
+    r.set_rc(true);
+    let speeds = |r: &twin::Rover| -> Vec<f64> {
+        WHEELS
+            .map(|w| r.wheel(w).unwrap().drive_ticks_per_s)
+            .collect()
+    };
+    r.run_us(4_500_000).unwrap();
+    assert!(
+        speeds(&r).iter().all(|v| v.abs() < 1.0),
+        "nothing drives before the slaves are back: {:?}",
+        speeds(&r)
+    );
+    // From 5 s after boot the master counts the link, and its link-up takes every board
+    // out of its boot exception: the rover drives at the transmitter's 1300 ticks/s.
+    r.run_us(4_500_000).unwrap();
+    assert!(
+        speeds(&r).iter().all(|v| (v - 1300.0).abs() < 80.0),
+        "RC drive from power-up: {:?}",
+        speeds(&r)
+    );
 }
 
 #[test]

@@ -205,6 +205,13 @@ impl Schedule {
         self.boot_sent >= 9 && !matches!(self.in_flight, Some((_, Job::Boot, _)))
     }
 
+    /// Whether the slaves have had [`BOOT_SETTLE_MS`] to come back from the boot resets:
+    /// pings and checks run from then on, and so does the remote control, whose link-up
+    /// writes a slave still rebooting would miss.
+    pub const fn started(&self) -> bool {
+        self.started
+    }
+
     /// Slaves that have answered since boot: bit n for slave n.
     pub const fn present(&self) -> u16 {
         self.health.present
