@@ -62,9 +62,9 @@ pub enum Command {
     /// Configure a read set (0..7) with up to 24 registers; the master must
     /// answer with the count.
     ///
-    /// The set lasts only until the next hostctl command: every command opens the port,
-    /// which resets the master and empties every read set (reference §4.1), so a later
-    /// `hostctl watch --readset N` cannot use it. Give `watch` the registers itself
+    /// The set is gone when this command ends: closing the port resets the master, which
+    /// empties every read set (reference §4.1), as every command's opening does, so a
+    /// later `hostctl watch --readset N` cannot use it. Give `watch` the registers itself
     /// (`hostctl watch --readset N REG...`), or use `run` for a sequence in one session.
     Readset(cmd::readset::Args),
 

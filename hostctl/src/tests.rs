@@ -106,10 +106,10 @@ fn a_write_that_nothing_will_act_on_says_so() {
         printed("write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION),
         "device 1 REGDS_DRIVE_REQSPEED = 1000 ticks/s (raw 0x9ffe, arrives as 999.908 ticks/s)\n\
          note: controller 1 is in exception (every controller is after the port opens, which \
-         reboots the rover): the board keeps the register's value but acts on nothing until \
-         the exception is reset, a demand (REQSPEED, REQPOS) is replaced meanwhile, and the \
-         next hostctl command reboots the rover again. To see it act, put `calibrate`, \
-         `reset` and then this write in one script: `hostctl run FILE`.\n"
+         reboots the rover): the board acts on nothing until the exception is reset, a \
+         demand (REQSPEED, REQPOS) is replaced meanwhile, and when this command ends, closing \
+         the port reboots the rover again, which restores every default. To see it act, put \
+         `calibrate`, `reset` and then this write in one script: `hostctl run FILE`.\n"
     );
     let o = hostctl("--json write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
     assert!(o.out.ends_with(",\"in_exception\":true}\n"), "{}", o.out);
@@ -208,9 +208,9 @@ fn the_pc_silence_timeout_is_written_as_a_master_word() {
     assert_eq!(
         o.out,
         "device 0 REGMASTER_PCTIMEOUT = 500 ms (raw 0x01f4, arrives as 500 ms)\n\
-         note: armed only until the master's next boot, and the next hostctl command reboots \
-         it by opening the port; for a session that should stop the rover when it stops \
-         talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.\n"
+         note: armed only until this command ends: closing the port reboots the master, \
+         whose boot turns the failsafe off; for a session that should stop the rover when it \
+         stops talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.\n"
     );
     // Turning it off needs no note.
     assert_eq!(
@@ -1496,9 +1496,9 @@ fn readset_help_says_the_set_ends_with_the_session() {
         .to_string();
     assert!(
         help.contains(
-            "The set lasts only until the next hostctl command: every command opens the port, \
-             which resets the master and empties every read set (reference §4.1), so a later \
-             `hostctl watch --readset N` cannot use it."
+            "The set is gone when this command ends: closing the port resets the master, which \
+             empties every read set (reference §4.1), as every command's opening does, so a \
+             later `hostctl watch --readset N` cannot use it."
         ),
         "{help}"
     );

@@ -103,10 +103,11 @@ the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the r
 range). Positions are degrees after `calibrate`, in one `hostctl run FILE` script.";
 
 /// The note for a one-shot write of REGMASTER_PCTIMEOUT: the master's boot turns the
-/// failsafe off, and the next command's port opening reboots the master.
-pub const PC_TIMEOUT_ONE_SHOT: &str = "note: armed only until the master's next boot, and \
-the next hostctl command reboots it by opening the port; for a session that should stop the \
-rover when it stops talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.";
+/// failsafe off, and closing the port at the command's end reboots the master.
+pub const PC_TIMEOUT_ONE_SHOT: &str = "note: armed only until this command ends: closing the \
+port reboots the master, whose boot turns the failsafe off; for a session that should stop \
+the rover when it stops talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` \
+script.";
 
 /// Whether a write of `reg` to `device` arms the PC-silence failsafe for this connection
 /// only (see [`PC_TIMEOUT_ONE_SHOT`]).
@@ -163,9 +164,10 @@ pub fn waits_for_reset(reg: &Register) -> bool {
 pub fn stored_only(device: u8) -> String {
     format!(
         "note: controller {device} is in exception (every controller is after the port opens, \
-         which reboots the rover): the board keeps the register's value but acts on nothing \
-         until the exception is reset, a demand (REQSPEED, REQPOS) is replaced meanwhile, and \
-         the next hostctl command reboots the rover again. To see it act, put `calibrate`, \
+         which reboots the rover): the board acts on nothing until the exception is reset, a \
+         demand (REQSPEED, REQPOS) is replaced meanwhile, and when this command ends, closing \
+         the port reboots the rover again, which restores every default. To see it act, put \
+         `calibrate`, \
          `reset` and then this write in one script: `hostctl run FILE`."
     )
 }

@@ -1,7 +1,7 @@
 //! `hostctl readset [--device D] SET REG...`: configure a read set.
 //!
-//! The set lives only for this connection: the next command's port open resets the
-//! master (reference §4.1), which empties every set.
+//! The set lives only for this connection: closing the port resets the master (reference
+//! §4.1), which empties every set.
 
 use shared::regs::Register;
 
