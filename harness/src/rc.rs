@@ -38,8 +38,12 @@ use crate::{uno, Avr, Pin};
 pub const RC_PINS: [Pin; 3] = [uno::D2, uno::D3, uno::D4];
 /// Frame period, µs.
 pub const FRAME_US: u64 = 20_000;
-/// Width every channel starts with: servo neutral, µs.
-pub const DEFAULT_WIDTH_US: u16 = 1500;
+/// The widths the channels start with, µs: the sticks at rest on the rover's transmitter
+/// (reference §9.2's ranges): drive and steer centred, (1940 + 1000) / 2 and
+/// (1738 + 940) / 2, and the mode switch at normal steering (not crab). A receiver turned
+/// on without settings then moves nothing (servo neutral, 1500 µs, would steer the rover
+/// to full lock: on the steer channel it is outside the dead band).
+pub const DEFAULT_WIDTHS_US: [u16; 3] = [1470, 1339, 910];
 /// Shortest and longest width the receiver sends, µs.
 pub const WIDTH_RANGE_US: (u16, u16) = (500, 2500);
 
@@ -187,8 +191,8 @@ impl RcReceiver {
         let model = Rc::new(Model {
             state: RefCell::new(State {
                 on: false,
-                widths: [DEFAULT_WIDTH_US; 3],
-                frame: [DEFAULT_WIDTH_US; 3],
+                widths: DEFAULT_WIDTHS_US,
+                frame: DEFAULT_WIDTHS_US,
                 step: 0,
                 frame_start: 0,
                 frames: 0,

@@ -1,7 +1,7 @@
 //! Emulator tests of the RC receiver model: the `fixture_rc` firmware measures the
 //! pulses on D2, D3 and D4 by pin change and prints them.
 
-use harness::rc::{RcReceiver, DEFAULT_WIDTH_US, FRAME_US};
+use harness::rc::{RcReceiver, DEFAULT_WIDTHS_US, FRAME_US};
 use harness::{uno, Avr, F_CPU};
 use shared::master::rc::{normalise, PulseTimer};
 
@@ -32,7 +32,18 @@ fn the_receiver_is_off_until_turned_on() {
     assert!(avr.uart_take().is_empty(), "no pulses, nothing measured");
     assert!(!avr.pin(uno::D2) && !avr.pin(uno::D3) && !avr.pin(uno::D4));
     assert_eq!(rc.frames(), 0);
-    assert_eq!(rc.widths(), [DEFAULT_WIDTH_US; 3]);
+    assert_eq!(rc.widths(), DEFAULT_WIDTHS_US);
+}
+
+#[test]
+fn the_default_widths_are_the_sticks_at_rest_for_the_master() {
+    let mut remote = shared::master::rc::Remote::new();
+    for (channel, width) in DEFAULT_WIDTHS_US.into_iter().enumerate() {
+        remote.pulse(channel, width);
+    }
+    let pass = remote.pass();
+    assert_eq!((pass.drive, pass.steer, pass.crab), (0, 0, false));
+    assert_eq!(pass.angles, [0; 6]);
 }
 
 #[test]
@@ -52,7 +63,7 @@ fn widths_are_measured_exactly_from_the_first_frame() {
 fn new_widths_take_effect_from_the_next_frame() {
     let (mut avr, rc) = fixture();
     rc.turn_on();
-    assert_eq!(next_widths(&mut avr), [1500, 1500, 1500]);
+    assert_eq!(next_widths(&mut avr), [1470, 1339, 910]);
     rc.set_width(0, 1940);
     rc.set_width(1, 940);
     rc.set_width(2, 910);
@@ -192,11 +203,11 @@ fn frames_go_on_after_a_chip_reset() {
     let (mut avr, rc) = fixture();
     rc.set_width(1, 1250);
     rc.turn_on();
-    assert_eq!(next_widths(&mut avr), [1500, 1250, 1500]);
+    assert_eq!(next_widths(&mut avr), [1470, 1250, 910]);
     // Reset in the middle of channel 0's pulse.
     avr.run_us(FRAME_US - 2000);
     avr.reset();
     avr.uart_read_until(b"rc ready\r\n", 10_000).unwrap();
-    assert_eq!(next_widths(&mut avr), [1500, 1250, 1500]);
-    assert_eq!(next_widths(&mut avr), [1500, 1250, 1500]);
+    assert_eq!(next_widths(&mut avr), [1470, 1250, 910]);
+    assert_eq!(next_widths(&mut avr), [1470, 1250, 910]);
 }
