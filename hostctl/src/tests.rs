@@ -111,6 +111,16 @@ fn a_write_that_nothing_will_act_on_says_so() {
          the port reboots the rover again, which restores every default. To see it act, put \
          `calibrate`, `reset` and then this write in one script: `hostctl run FILE`.\n"
     );
+    // A write of EXCEPTIONDATA stops the board whatever its value.
+    let out = printed("write 4 exceptiondata 0", &WRITTEN_IN_EXCEPTION);
+    assert!(
+        out.ends_with(
+            "note: any write to a controller's EXCEPTIONDATA raises REMOTESLAVE (3) on it, \
+             whatever the value: controller 4 stops both its motors until its exception is \
+             reset (`write 4 reset 1`)\n"
+        ),
+        "{out}"
+    );
     let o = hostctl("--json write 1 DRIVE_REQSPEED 1000", &WRITTEN_IN_EXCEPTION);
     assert!(o.out.ends_with(",\"in_exception\":true}\n"), "{}", o.out);
     // A register of the common block acts at once, in exception too: no note.

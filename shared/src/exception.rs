@@ -9,7 +9,8 @@ pub enum ExceptionType {
     Overcurrent = 1,
     /// The state every board powers up in; never spread.
     Boot = 2,
-    /// Raised on a slave by a write to its EXCEPTIONDATA (another board's fault); never spread.
+    /// Raised on a slave by a write to its EXCEPTIONDATA (another board's fault, spread by the
+    /// master, or a PC's own write); never spread.
     RemoteSlave = 3,
     /// Stopped, low control, high current (never raised by the original).
     ShortNc = 4,
@@ -66,7 +67,7 @@ impl ExceptionType {
         match self {
             Overcurrent => "overcurrent",
             Boot => "boot",
-            RemoteSlave => "remote (another board's fault)",
+            RemoteSlave => "remote (EXCEPTIONDATA written: another board's fault spread by the master, or a PC)",
             ShortNc => "short (not commanded)",
             Stall => "stall",
             EncoderFault => "encoder fault",

@@ -102,6 +102,16 @@ pub const BOOT_CALIBRATION: &str = "note: not degrees: opening the port rebooted
 the board is on its boot calibration (pot 0..1023 as -512..512, clamped to the register's \
 range). Positions are degrees after `calibrate`, in one `hostctl run FILE` script.";
 
+/// The note for a write of a controller's EXCEPTIONDATA: whatever the value, the board
+/// takes it as the master's spread of another board's fault (reference §2.1, §6).
+pub fn remote_raised(device: u8) -> String {
+    format!(
+        "note: any write to a controller's EXCEPTIONDATA raises REMOTESLAVE (3) on it, \
+         whatever the value: controller {device} stops both its motors until its exception \
+         is reset (`write {device} reset 1`)"
+    )
+}
+
 /// The note for a one-shot write of REGMASTER_PCTIMEOUT: the master's boot turns the
 /// failsafe off, and closing the port at the command's end reboots the master.
 pub const PC_TIMEOUT_ONE_SHOT: &str = "note: armed only until this command ends: closing the \

@@ -1,7 +1,7 @@
 //! `hostctl write DEV REG VALUE`: one register, one write frame.
 
 use shared::protocol::{self, Write};
-use shared::regs::Register;
+use shared::regs::{id, Register};
 
 use super::{fresh, Frame};
 use crate::error::HostError;
@@ -132,6 +132,9 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
     }
     if fresh::arms_for_this_boot(plan.target.device, plan.reg) && plan.raw != 0 {
         text += &format!("\n{}", fresh::PC_TIMEOUT_ONE_SHOT);
+    }
+    if plan.target.device != 0 && plan.reg.id == id::REG_EXCEPTIONDATA {
+        text += &format!("\n{}", fresh::remote_raised(plan.target.device));
     }
     text
 }
