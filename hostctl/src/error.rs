@@ -232,6 +232,10 @@ pub enum HostError {
         why: String,
     },
 
+    /// Writing hostctl's own output failed: nothing is wrong with the rover or the link.
+    #[error("cannot write hostctl's output: {0} (standard output was closed, e.g. by `| head`); the rover and the serial link are not at fault")]
+    Output(io::Error),
+
     /// Reading or writing the port failed.
     #[error("serial I/O failed: {0}; check the cable or restart the twin")]
     Io(#[from] io::Error),

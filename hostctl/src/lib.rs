@@ -121,13 +121,13 @@ pub fn execute_with_clock<P: Port>(
                 } else {
                     screen.frame(&cmd::watch::table_lines(round))
                 };
-                out.write_all(text.as_bytes())?;
-                out.flush()?;
+                out.write_all(text.as_bytes()).map_err(HostError::Output)?;
+                out.flush().map_err(HostError::Output)?;
                 Ok(())
             });
         }
     };
-    writeln!(out, "{text}")?;
+    writeln!(out, "{text}").map_err(HostError::Output)?;
     Ok(())
 }
 

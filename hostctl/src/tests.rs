@@ -100,6 +100,40 @@ fn write_drive_speed_sends_the_reference_frame() {
 }
 
 #[test]
+fn a_closed_standard_output_is_not_blamed_on_the_serial_line() {
+    struct Closed;
+    impl std::io::Write for Closed {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::ErrorKind::BrokenPipe.into())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let cli = Cli::try_parse_from(["hostctl", "write", "0", "pctimeout", "1500"]).unwrap();
+    let mut port = FakePort::with_replies(&[[0x00]]);
+    let style = Style {
+        json: false,
+        in_place: false,
+        width: || None,
+    };
+    let e = run(
+        &cli,
+        Some("/dev/fake".into()),
+        |_: &str| Ok(Link::ready(&mut port)),
+        style,
+        &mut Closed,
+    )
+    .unwrap_err();
+    assert!(matches!(e, HostError::Output(_)), "{e:?}");
+    assert_eq!(
+        e.to_string(),
+        "cannot write hostctl's output: broken pipe (standard output was closed, e.g. by \
+         `| head`); the rover and the serial link are not at fault"
+    );
+}
+
+#[test]
 fn a_write_that_nothing_will_act_on_says_so() {
     // Fresh from the port's reboot, the controller is in its boot exception.
     assert_eq!(
@@ -221,6 +255,16 @@ fn the_pc_silence_timeout_is_written_as_a_master_word() {
          note: armed only until this command ends: closing the port reboots the master, \
          whose boot turns the failsafe off; for a session that should stop the rover when it \
          stops talking, put `write 0 pctimeout MS` first in a `hostctl run FILE` script.\n"
+    );
+    // Beyond what the master acts on: said so.
+    let out = printed("write 0 pctimeout 65000", &[[0x00]]);
+    assert!(
+        out.starts_with(
+            "device 0 REGMASTER_PCTIMEOUT = 65000 ms (raw 0xfde8, arrives as 65000 ms)\n\
+             note: the master acts on at most 60000 ms; a longer REGMASTER_PCTIMEOUT counts as \
+             60000\nnote: armed only"
+        ),
+        "{out}"
     );
     // Turning it off needs no note.
     assert_eq!(

@@ -152,7 +152,7 @@ pub fn run<P: Port>(
         let start = event()
             .str("script", &plan.path)
             .int("lines", i64::try_from(plan.lines.len()).unwrap_or(i64::MAX));
-        writeln!(output.out, "{}", start.finish())?;
+        writeln!(output.out, "{}", start.finish()).map_err(HostError::Output)?;
     } else {
         writeln!(
             output.out,
@@ -163,9 +163,10 @@ pub fn run<P: Port>(
     }
     for note in script::notes(&plan.lines) {
         if output.json {
-            writeln!(output.out, "{}", event().str("note", &note).finish())?;
+            writeln!(output.out, "{}", event().str("note", &note).finish())
+                .map_err(HostError::Output)?;
         } else {
-            writeln!(output.out, "note: {note}")?;
+            writeln!(output.out, "note: {note}").map_err(HostError::Output)?;
         }
     }
     for line in &plan.lines {
@@ -173,11 +174,11 @@ pub fn run<P: Port>(
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
             if output.json {
                 let echo = event().int("line", number(line)).str("text", &line.text);
-                writeln!(output.out, "{}", echo.finish())?;
+                writeln!(output.out, "{}", echo.finish()).map_err(HostError::Output)?;
             } else {
-                writeln!(output.out, "> {}", line.text)?;
+                writeln!(output.out, "> {}", line.text).map_err(HostError::Output)?;
             }
-            output.out.flush()?;
+            output.out.flush().map_err(HostError::Output)?;
         }
         // The view shows the demands as they stand after this line.
         run_line(line, link, clock, &poller, &mut session, output).map_err(|source| {
@@ -486,9 +487,9 @@ fn act<P: Port>(
         Action::Op(Op::Pause(d)) => clock.sleep(*d),
         Action::Say(text) if output.json => {
             let say = event().int("line", number(line)).str("say", text);
-            writeln!(output.out, "{}", say.finish())?;
+            writeln!(output.out, "{}", say.finish()).map_err(HostError::Output)?;
         }
-        Action::Say(text) => writeln!(output.out, "{text}")?,
+        Action::Say(text) => writeln!(output.out, "{text}").map_err(HostError::Output)?,
         Action::Live { time, log } => {
             live(*time, *log, link, clock, poller, line, session, output)?
         }
@@ -544,8 +545,11 @@ fn live<P: Port>(
             } else {
                 screen.frame(&lines)
             };
-            output.out.write_all(text.as_bytes())?;
-            output.out.flush()?;
+            output
+                .out
+                .write_all(text.as_bytes())
+                .map_err(HostError::Output)?;
+            output.out.flush().map_err(HostError::Output)?;
             next_draw = now + period;
         }
         if done {

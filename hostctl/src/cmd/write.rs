@@ -1,5 +1,6 @@
 //! `hostctl write DEV REG VALUE`: one register, one write frame.
 
+use shared::master::pc_watch::MAX_TIMEOUT_MS;
 use shared::protocol::{self, Write};
 use shared::regs::{id, Register};
 
@@ -131,6 +132,12 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
         text += &format!("\n{}", fresh::BOOT_CALIBRATION);
     }
     if fresh::arms_for_this_boot(plan.target.device, plan.reg) && plan.raw != 0 {
+        if plan.raw > MAX_TIMEOUT_MS {
+            text += &format!(
+                "\nnote: the master acts on at most {MAX_TIMEOUT_MS} ms; a longer \
+                 REGMASTER_PCTIMEOUT counts as {MAX_TIMEOUT_MS}"
+            );
+        }
         text += &format!("\n{}", fresh::PC_TIMEOUT_ONE_SHOT);
     }
     if plan.target.device != 0 && plan.reg.id == id::REG_EXCEPTIONDATA {
