@@ -283,15 +283,20 @@ fn an_unplugged_temperature_sensor_raises_type_10() {
     println!("sensor 2 missing: type 10 on the master {took:?} after the reset");
 }
 
+/// A rover whose RC transmitter is set to full forward, straight on: channel 0 at
+/// 1000 µs is full forward (drive 1300), 1339 µs centres the steering, 910 µs is normal
+/// (not crab) mode.
+fn rover_with_rc_full_forward() -> twin::Rover {
+    let mut r = rover();
+    for (channel, us) in [(0, 1000), (1, 1339), (2, 910)] {
+        r.set_rc_width(channel, us).unwrap();
+    }
+    r
+}
+
 #[test]
 fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
-    let mut r = rover();
-    // Channel 0 at 1000 µs is full forward (drive 1300); 1339 µs centres the steering;
-    // 910 µs is normal (not crab) mode.
-    r.set_rc_width(0, 1000).unwrap();
-    r.set_rc_width(1, 1339).unwrap();
-    r.set_rc_width(2, 910).unwrap();
-    let mut s = Session::on(r);
+    let mut s = Session::on(rover_with_rc_full_forward());
     s.reset_exceptions();
     s.twin.borrow_mut().set_rc(true);
     // The master counts the link from 5 s after its boot, once the slaves are back.
@@ -330,10 +335,7 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
 fn a_transmitter_on_at_power_up_drives_once_the_slaves_are_back_from_their_boot() {
     // The receiver sends from power-up: the master's boot hard-resets every slave, and
     // the RC link-up's REG_RESET = 1 would reach them while they reboot and be lost.
-    let mut r = rover();
-    r.set_rc_width(0, 1000).unwrap();
-    r.set_rc_width(1, 1339).unwrap();
-    r.set_rc_width(2, 910).unwrap();
+    let mut r = rover_with_rc_full_forward();
     r.set_rc(true);
     let speeds = |r: &twin::Rover| -> Vec<f64> {
         WHEELS
