@@ -1,10 +1,13 @@
 //! EXCEPTIONDATA values taken apart (reference §6.2), in words for people and as a JSON
 //! object for programs: a slave's is its type and motor; the master's is its type, the
-//! controller that raised it (0: the master itself) and the motor.
+//! controller that raised it (0: the master itself) and the motor. A motor is named as the
+//! rover's wheels have it (controller 4's motor 0 is wheel 3's drive), so a reader need not
+//! know the wiring.
 
 use shared::exception::ExceptionType;
 use shared::regs::{id, Register, COMMON, MASTER};
 
+use crate::cmd::pc::Motor;
 use crate::json;
 
 /// An exception type's name ("overcurrent"), or "type N" for a code no board raises.
@@ -13,6 +16,22 @@ pub fn type_name(code: u8) -> String {
         Some(t) => t.name().to_owned(),
         None => format!("type {code}"),
     }
+}
+
+/// The wheel and motor that motor `motor` (0 or 1) of controller `device` (1..=9) drives:
+/// a DS board 3p+1 or 3p+2 has wheel 2p+1's or 2p+2's drive (0) and steer (1); the LL
+/// board 3p+3 has the lifts of wheels 2p+1 (ONE, 0) and 2p+2 (TWO, 1). `None` for any
+/// other motor (5: the whole board) or device.
+pub fn wheel_motor(device: u8, motor: u8) -> Option<(u8, Motor)> {
+    if !(1..=9).contains(&device) || motor > 1 {
+        return None;
+    }
+    let (pair, slot) = ((device - 1) / 3, (device - 1) % 3);
+    Some(match (slot, motor) {
+        (2, m) => (2 * pair + 1 + m, Motor::Lift),
+        (s, 0) => (2 * pair + 1 + s, Motor::Drive),
+        (s, _) => (2 * pair + 1 + s, Motor::Steer),
+    })
 }
 
 /// One EXCEPTIONDATA value, taken apart.
@@ -24,15 +43,19 @@ pub struct Exception {
     pub controller: Option<u8>,
     /// The motor: 0 or 1, anything else none (e.g. 5 for a whole board).
     pub motor: u8,
+    /// The controller the motor belongs to: the one the master's value names, or the one
+    /// a slave's value was read from.
+    board: u8,
 }
 
 impl Exception {
-    /// `raw` taken apart, when `reg` is a slave's or the master's EXCEPTIONDATA.
-    pub fn of(reg: &Register, raw: u16) -> Option<Exception> {
+    /// `raw` taken apart, when `reg` is the master's EXCEPTIONDATA or, read from
+    /// controller `device`, a slave's.
+    pub fn of(device: u8, reg: &Register, raw: u16) -> Option<Exception> {
         if *reg == MASTER[usize::from(id::REGMASTER_EXCEPTIONDATA)] {
             Some(Exception::master(raw))
         } else if *reg == COMMON[usize::from(id::REG_EXCEPTIONDATA)] {
-            Some(Exception::slave(raw))
+            Some(Exception::slave(device, raw))
         } else {
             None
         }
@@ -45,16 +68,18 @@ impl Exception {
             code: low,
             controller: Some(high & 0x0f),
             motor: high >> 4,
+            board: high & 0x0f,
         }
     }
 
-    /// A slave's REG_EXCEPTIONDATA taken apart: type, motor.
-    pub fn slave(raw: u16) -> Exception {
+    /// REG_EXCEPTIONDATA of controller `device` taken apart: type, motor.
+    pub fn slave(device: u8, raw: u16) -> Exception {
         let [low, high] = raw.to_le_bytes();
         Exception {
             code: low,
             controller: None,
             motor: high,
+            board: device,
         }
     }
 
@@ -69,10 +94,16 @@ impl Exception {
         type_name(self.code)
     }
 
+    /// The wheel and motor it names ([`wheel_motor`]), if any.
+    pub fn wheel_motor(&self) -> Option<(u8, Motor)> {
+        wheel_motor(self.board, self.motor)
+    }
+
     fn motor_words(&self) -> String {
-        match self.motor {
-            0 | 1 => format!("motor {}", self.motor),
-            m => format!("motor {m} (none)"),
+        match self.wheel_motor() {
+            Some((wheel, m)) => format!("motor {} (wheel {wheel}'s {})", self.motor, m.name()),
+            None if self.motor > 1 => "the whole board".to_owned(),
+            None => format!("motor {}", self.motor),
         }
     }
 
@@ -95,7 +126,9 @@ impl Exception {
     }
 
     /// The value as a JSON object: `type` (code), `name` (null for the master's "none"),
-    /// `controller` (the master's only), `motor`, and `text` (as [`Exception::words`]).
+    /// `controller` (the master's only), `motor`, `wheel` and `wheel_motor` ("drive",
+    /// "steer" or "lift") when the motor is one of a wheel's, and `text` (as
+    /// [`Exception::words`]).
     pub fn json(&self) -> String {
         let object = json::Object::new().int("type", self.code);
         let object = if self.is_none() {
@@ -107,10 +140,12 @@ impl Exception {
             Some(c) => object.int("controller", c),
             None => object,
         };
-        object
-            .int("motor", self.motor)
-            .str("text", &self.words())
-            .finish()
+        let object = object.int("motor", self.motor);
+        let object = match self.wheel_motor() {
+            Some((wheel, m)) => object.int("wheel", wheel).str("wheel_motor", m.name()),
+            None => object,
+        };
+        object.str("text", &self.words()).finish()
     }
 }
 
@@ -127,28 +162,32 @@ mod tests {
     fn the_master_value_is_type_controller_and_motor() {
         let master = reg(BoardKind::Master, "EXCEPTIONDATA");
         // Reference §6.2: 0x1401 is an overcurrent on controller 4, motor 1.
-        let e = Exception::of(master, 0x1401).expect("the master's EXCEPTIONDATA");
+        // Whichever device it was read from (the master's is device 0).
+        let e = Exception::of(0, master, 0x1401).expect("the master's EXCEPTIONDATA");
+        assert_eq!((e.code, e.controller, e.motor), (1, Some(4), 1));
+        // Controller 4 is pair 1's first DS board: wheel 3; motor 1 is its steer.
+        assert_eq!(e.wheel_motor(), Some((3, Motor::Steer)));
         assert_eq!(
-            e,
-            Exception {
-                code: 1,
-                controller: Some(4),
-                motor: 1
-            }
+            e.words(),
+            "overcurrent on controller 4, motor 1 (wheel 3's steer)"
         );
-        assert_eq!(e.words(), "overcurrent on controller 4, motor 1");
         assert_eq!(
             e.json(),
-            r#"{"type":1,"name":"overcurrent","controller":4,"motor":1,"text":"overcurrent on controller 4, motor 1"}"#
+            r#"{"type":1,"name":"overcurrent","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#
         );
-        let none = Exception::of(master, 0).expect("the master's EXCEPTIONDATA");
+        // A lift board's motor 0 is its pair's odd wheel's lift.
+        assert_eq!(
+            Exception::master(0x0905).words(),
+            "stall on controller 9, motor 0 (wheel 5's lift)"
+        );
+        let none = Exception::of(0, master, 0).expect("the master's EXCEPTIONDATA");
         assert!(none.is_none());
         assert_eq!(
             none.json(),
             r#"{"type":0,"name":null,"controller":0,"motor":0,"text":"no exception"}"#
         );
         // The master's own (controller 0): PC silence.
-        let own = Exception::of(master, 13).expect("the master's EXCEPTIONDATA");
+        let own = Exception::of(0, master, 13).expect("the master's EXCEPTIONDATA");
         assert_eq!(
             own.words(),
             "PC silent (master heard nothing for REGMASTER_PCTIMEOUT ms)"
@@ -159,31 +198,53 @@ mod tests {
     fn a_slave_value_is_type_and_motor_on_either_board() {
         for board in [BoardKind::DriveSteer, BoardKind::LiftLift] {
             let data = reg(board, "EXCEPTIONDATA");
-            let e = Exception::of(data, 0x0502).expect("a slave's EXCEPTIONDATA");
-            assert_eq!(
-                e,
-                Exception {
-                    code: 2,
-                    controller: None,
-                    motor: 5
-                }
-            );
+            let e = Exception::of(6, data, 0x0502).expect("a slave's EXCEPTIONDATA");
+            assert_eq!((e.code, e.controller, e.motor), (2, None, 5));
             assert!(!e.is_none());
             assert_eq!(
                 e.json(),
-                r#"{"type":2,"name":"boot","motor":5,"text":"boot, motor 5 (none) (the last exception)"}"#
+                r#"{"type":2,"name":"boot","motor":5,"text":"boot, the whole board (the last exception)"}"#
             );
             assert_eq!(
-                Exception::of(data, 0x0009).map(|e| e.words()),
-                Some("type 9, motor 0 (the last exception)".to_owned())
+                Exception::of(1, data, 0x0009).map(|e| e.words()),
+                Some("type 9, motor 0 (wheel 1's drive) (the last exception)".to_owned())
             );
         }
+        // Read from controller 6 (pair 1's lift board), motor 1 is wheel 4's lift.
+        assert_eq!(
+            Exception::slave(6, 0x0101).words(),
+            "overcurrent, motor 1 (wheel 4's lift) (the last exception)"
+        );
     }
 
     #[test]
     fn other_registers_are_no_exception_data() {
-        assert_eq!(Exception::of(reg(BoardKind::Master, "TEMP1"), 0x1401), None);
+        assert_eq!(
+            Exception::of(0, reg(BoardKind::Master, "TEMP1"), 0x1401),
+            None
+        );
         // REG_STATUS sits next to EXCEPTIONDATA in the common block.
-        assert_eq!(Exception::of(reg(BoardKind::DriveSteer, "STATUS"), 2), None);
+        assert_eq!(
+            Exception::of(1, reg(BoardKind::DriveSteer, "STATUS"), 2),
+            None
+        );
+    }
+
+    #[test]
+    fn every_controller_motor_is_one_wheel_motor() {
+        // The library's routing (reference §8): each of the 18 motors once.
+        let mut seen = Vec::new();
+        for device in 1..=9 {
+            for motor in 0..=1 {
+                let named = wheel_motor(device, motor).expect("a wheel's motor");
+                assert!(!seen.contains(&named), "{named:?} twice");
+                assert_eq!(crate::cmd::pc::device_of(named.0, named.1), device);
+                seen.push(named);
+            }
+            assert_eq!(wheel_motor(device, 5), None);
+        }
+        assert_eq!(seen.len(), 18);
+        assert_eq!(wheel_motor(0, 0), None);
+        assert_eq!(wheel_motor(10, 0), None);
     }
 }

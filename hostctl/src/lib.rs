@@ -25,6 +25,7 @@ pub mod exception;
 mod fake;
 pub mod json;
 pub mod link;
+pub mod meaning;
 pub mod port;
 pub mod resolve;
 pub mod suggest;

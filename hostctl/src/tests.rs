@@ -463,13 +463,13 @@ fn exception_data_is_read_in_words() {
     let o = hostctl("read 1 EXCEPTIONDATA", &[&[0x01][..], &[0x02, 0x05]]);
     assert_eq!(
         o.out,
-        "device 1 REG_EXCEPTIONDATA = 1282 (raw 0x0502): boot, motor 5 (none) (the last exception)\n"
+        "device 1 REG_EXCEPTIONDATA = 1282 (raw 0x0502): boot, the whole board (the last exception)\n"
     );
     // The master's: type | controller << 8 | motor << 12 (reference §6.2).
     let o = hostctl("read 0 EXCEPTIONDATA", &[&[0x01][..], &[0x01, 0x14]]);
     assert_eq!(
         o.out,
-        "device 0 REGMASTER_EXCEPTIONDATA = 5121 (raw 0x1401): overcurrent on controller 4, motor 1\n"
+        "device 0 REGMASTER_EXCEPTIONDATA = 5121 (raw 0x1401): overcurrent on controller 4, motor 1 (wheel 3's steer)\n"
     );
     let o = hostctl("read 0 EXCEPTIONDATA", &[&[0x01][..], &[0x00, 0x00]]);
     assert!(o.out.ends_with(": no exception\n"), "{}", o.out);
@@ -480,7 +480,34 @@ fn exception_data_is_read_in_words() {
         "{\"command\":\"read\",\"device\":1,\"board\":\"DS\",\"id\":5,\
          \"register\":\"REG_EXCEPTIONDATA\",\"raw\":1282,\"value\":1282,\"unit\":\"\",\
          \"exception\":{\"type\":2,\"name\":\"boot\",\"motor\":5,\
-         \"text\":\"boot, motor 5 (none) (the last exception)\"}}\n"
+         \"text\":\"boot, the whole board (the last exception)\"}}\n"
+    );
+}
+
+#[test]
+fn status_error_and_sensor_bits_are_read_in_words() {
+    // A DS board's boot STATUS (reference §6.2).
+    let o = hostctl("read 1 STATUS", &[&[0x01][..], &[0x09, 0x00]]);
+    assert_eq!(
+        o.out,
+        "device 1 REG_STATUS = 9 bits (raw 0x0009): DS board, in exception (its motors are \
+         stopped)\n"
+    );
+    // The master's last link error by its protocol name (docs/protocol.md).
+    let o = hostctl("read 0 LASTERROR", &[&[0x01][..], &[0x0c]]);
+    assert_eq!(
+        o.out,
+        "device 0 REGMASTER_LASTERROR = 12 code (raw 0x0c): NoAnswer: a slave did not answer \
+         on the I2C bus\n"
+    );
+    let o = hostctl("--json read 0 TEMPSREAD", &[&[0x01][..], &[0xf7, 0x03]]);
+    assert_eq!(
+        o.out,
+        "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":14,\
+         \"register\":\"REGMASTER_TEMPSREAD\",\"raw\":1015,\"value\":1015,\"unit\":\"bits\",\
+         \"sensors_read\":{\"ambient\":true,\"boards\":[1,2,4,5,6,7,8,9],\
+         \"text\":\"reading: ambient, board 1, board 2, board 4, board 5, board 6, board 7, \
+         board 8, board 9; no reading: board 3\"}}\n"
     );
 }
 
@@ -534,7 +561,8 @@ fn read_sizes_the_reply_from_the_device_table() {
         "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":11,\
          \"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
          \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
-         \"text\":\"overcurrent on controller 4, motor 1\"}}\n"
+         \"wheel\":3,\"wheel_motor\":\"steer\",\
+         \"text\":\"overcurrent on controller 4, motor 1 (wheel 3's steer)\"}}\n"
     );
 }
 
@@ -797,8 +825,22 @@ fn watch_standard_set_0_polls_every_ds_board() {
         ]
     );
     let lines: Vec<&str> = o.out.lines().collect();
-    // Title, two header lines, six boards and the boot-calibration legend.
-    assert_eq!(lines.len(), 3 + 6 + 1);
+    // Title, two header lines, six boards, the coded values in words (STATUS 0 on all six;
+    // EXCEPTIONDATA 0, whose motor 0 is another wheel's drive on each) and the
+    // boot-calibration legend.
+    assert_eq!(lines.len(), 3 + 6 + 7 + 1, "{}", o.out);
+    assert_eq!(
+        lines[9],
+        "STATUS 0 (dev 1, 2, 4, 5, 7, 8): no board kind, not in exception"
+    );
+    assert_eq!(
+        lines[10],
+        "EXCEPTIONDATA 0 (dev 1): type 0, motor 0 (wheel 1's drive) (the last exception)"
+    );
+    assert_eq!(
+        lines[15],
+        "EXCEPTIONDATA 0 (dev 8): type 0, motor 0 (wheel 6's drive) (the last exception)"
+    );
     assert_eq!(lines[0], "read set 0, round 1");
     assert_eq!(
         lines[1],
@@ -870,7 +912,8 @@ fn watch_standard_sets_1_and_2_match_the_library() {
     assert!(line.ends_with(
         "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
          \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
-         \"text\":\"overcurrent on controller 4, motor 1\"}}]}"
+         \"wheel\":3,\"wheel_motor\":\"steer\",\
+         \"text\":\"overcurrent on controller 4, motor 1 (wheel 3's steer)\"}}]}"
     ), "{line}");
     assert_eq!(o.out.lines().count(), 1);
 
@@ -885,6 +928,7 @@ fn watch_standard_sets_1_and_2_match_the_library() {
          \x20           degC   degC   degC   degC   degC   degC   degC   degC   degC   degC\n\
          0         21.498      -      -      -      -      -      -      -      -      -  \
          \x20        5121\n\
+         EXCEPTIONDATA 5121: overcurrent on controller 4, motor 1 (wheel 3's steer)\n\
          - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
          boot, and opening the port rebooted it; or the sensor is missing, or its last read failed\n"
     );

@@ -11,18 +11,19 @@ use shared::regs::{id, Register};
 use super::read::SCRATCH_SET;
 use super::{configure, set_frame, SetRead};
 use crate::error::HostError;
-use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
+use crate::meaning::Meaning;
 use crate::port::Port;
 use crate::resolve::{self, Target};
 
 /// `object` with register `reg`'s members for `--json`: id, name, raw, value in units and
 /// unit, and `read` when the register is a master temperature (`read` its TEMPSREAD bit):
 /// a temperature not read yet holds 0.0 °C, which is no value, so its value is `null`;
-/// an EXCEPTIONDATA value also comes taken apart, as `exception` ([`Exception::json`]).
+/// a coded value (EXCEPTIONDATA, STATUS, …) also comes taken apart ([`Meaning::json`]).
 pub fn register_json(
     object: json::Object,
+    device: u8,
     reg: &Register,
     raw: u16,
     read: Option<bool>,
@@ -30,6 +31,7 @@ pub fn register_json(
     let flag = read.map(|read| ("read", read));
     value_json(
         object.int("id", reg.id),
+        device,
         reg,
         raw,
         read == Some(false),
@@ -39,10 +41,11 @@ pub fn register_json(
 
 /// `object` with `reg`'s name, raw, value (`null` when `no_value`) and unit, `at_limit`
 /// ("lower" or "upper") for a reading at its range's end ([`resolve::limit_of`]: that
-/// value or beyond), then the boolean member `flag` if any, then `exception` for an
-/// EXCEPTIONDATA value.
+/// value or beyond), then the boolean member `flag` if any, then a coded value of
+/// `device` taken apart under its [`Meaning::key`] (`exception`, `status`, …).
 pub fn value_json(
     object: json::Object,
+    device: u8,
     reg: &Register,
     raw: u16,
     no_value: bool,
@@ -63,8 +66,8 @@ pub fn value_json(
         Some((key, value)) => object.bool(key, value),
         None => object,
     };
-    match Exception::of(reg, raw) {
-        Some(e) => object.raw("exception", &e.json()),
+    match Meaning::of(device, reg, raw) {
+        Some(m) => object.raw(m.key(), &m.json()),
         None => object,
     }
 }

@@ -312,7 +312,7 @@ fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
     if status & 1 == 0 {
         return None;
     }
-    let e = Exception::slave(s.raw(device, id::REG_EXCEPTIONDATA)?);
+    let e = Exception::slave(device, s.raw(device, id::REG_EXCEPTIONDATA)?);
     Some((e.code, e.motor))
 }
 
@@ -411,15 +411,7 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
     let exception = match data.map(Exception::master) {
         None => "exception not read".to_owned(),
         Some(e) if e.is_none() => "no exception".to_owned(),
-        Some(Exception {
-            code,
-            controller: Some(c),
-            motor,
-        }) if c != 0 => format!(
-            "exception: {} on controller {c} (motor {motor})",
-            type_name(code)
-        ),
-        Some(e) => format!("exception: {}", e.type_name()),
+        Some(e) => format!("exception: {}", e.words()),
     };
     // A sensor the master has not read since boot (or cannot find) holds 0.0 °C, which
     // is no reading: shown as "-".
@@ -638,7 +630,7 @@ mod tests {
         assert_eq!(lines[6].trim_end().chars().last(), Some('-'));
         assert_eq!(
             lines[8],
-            "master: exception: stall on controller 2 (motor 0); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
+            "master: exception: stall on controller 2, motor 0 (wheel 2's drive); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
         );
         assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
     }

@@ -9,9 +9,9 @@ use shared::regs::{id, Register};
 
 use super::{fresh, Frame, SetRead};
 use crate::error::HostError;
-use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
+use crate::meaning::Meaning;
 use crate::port::Port;
 use crate::resolve::{self, Target};
 
@@ -85,7 +85,7 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
             .str("command", "read")
             .int("device", target.device)
             .str("board", target.board());
-        let object = fresh::register_json(object, reg, raw, read);
+        let object = fresh::register_json(object, target.device, reg, raw, read);
         return if boot_scale || boot_end {
             object.bool("boot_calibration", true).finish()
         } else {
@@ -130,8 +130,8 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
         format!("{text}\n{}", fresh::BOOT_CALIBRATION)
     } else if boot_end {
         format!("{text}\n{}", fresh::BOOT_CALIBRATION_END)
-    } else if let Some(e) = Exception::of(reg, raw) {
-        format!("{text}: {}", e.words())
+    } else if let Some(m) = Meaning::of(target.device, reg, raw) {
+        format!("{text}: {}", m.words())
     } else if let Some(note) = resolve::use_note(reg, raw) {
         format!("{text}\nnote: {note}")
     } else {

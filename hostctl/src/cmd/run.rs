@@ -37,9 +37,9 @@ use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
-use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
+use crate::meaning::Meaning;
 use crate::port::Port;
 use crate::resolve;
 use crate::table::Screen;
@@ -307,8 +307,8 @@ fn shown_lines(
                     } else {
                         ""
                     };
-                    let words = Exception::of(reg, raw)
-                        .map(|e| format!(" ({})", e.words()))
+                    let words = Meaning::of(*device, reg, raw)
+                        .map(|m| format!(" ({})", m.words()))
                         .unwrap_or_default();
                     format!(
                         "{} {}{}{mark}{words}",
@@ -349,6 +349,7 @@ fn shown_json(shown: &Shown, s: &Snapshot, pc: &Pc, dropped: &Dropped) -> String
                 off_calibration(pc, dropped, *device, reg).map(|off| ("calibrated", !off));
             fresh::value_json(
                 json::Object::new(),
+                *device,
                 reg,
                 raw,
                 s.no_reading(*device, reg.id),
@@ -780,12 +781,12 @@ mod tests {
             (
                 false,
                 false,
-                "\ndevice 0: EXCEPTIONDATA 5121 (overcurrent on controller 4, motor 1)\n",
+                "\ndevice 0: EXCEPTIONDATA 5121 (overcurrent on controller 4, motor 1 (wheel 3's steer))\n",
             ),
             (
                 false,
                 true,
-                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"text":"overcurrent on controller 4, motor 1"}"#,
+                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#,
             ),
         ] {
             let ran = run_script(script, &replies(lost_last), json);

@@ -23,6 +23,7 @@ use super::{fresh, Frame, Reading, SetRead};
 use crate::error::HostError;
 use crate::json;
 use crate::link::Link;
+use crate::meaning::Meaning;
 use crate::port::Port;
 use crate::resolve::{self, Target};
 use crate::table::Table;
@@ -383,6 +384,7 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     let mut boot_end = false;
     let mut silent = Vec::new();
     let mut lost = Vec::new();
+    let mut coded = Legend::default();
     for row in &round.rows {
         let mut cells = vec![row.target.device.to_string()];
         let raws = match &row.reading {
@@ -409,6 +411,9 @@ pub fn table_lines(round: &Round) -> Vec<String> {
                 boot_end = true;
                 format!("{}*", resolve::show(reg, raw))
             } else {
+                if let Some(m) = Meaning::of(row.target.device, reg, raw) {
+                    coded.add(reg, raw, m.words(), row.target.device);
+                }
                 resolve::show(reg, raw)
             }
         }));
@@ -416,6 +421,7 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     }
     let mut lines = vec![format!("read set {}, round {}", round.set, round.number)];
     lines.extend(table.lines());
+    lines.extend(coded.lines(round.rows.len()));
     if boot_scale {
         lines.push(
             "* not degrees: opening the port rebooted the rover, so the boards are on their \
@@ -442,6 +448,42 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     lines
 }
 
+/// The coded values of a round in words ([`Meaning`]), one line per register and value,
+/// naming the devices that hold it when the table has more than one row.
+#[derive(Default)]
+struct Legend {
+    /// (register, raw, words, devices), in the order first met.
+    entries: Vec<(&'static str, u16, String, Vec<u8>)>,
+}
+
+impl Legend {
+    fn add(&mut self, reg: &Register, raw: u16, words: String, device: u8) {
+        let name = reg.short_name();
+        match self
+            .entries
+            .iter_mut()
+            .find(|(n, r, w, _)| *n == name && *r == raw && *w == words)
+        {
+            Some((_, _, _, devices)) => devices.push(device),
+            None => self.entries.push((name, raw, words, vec![device])),
+        }
+    }
+
+    fn lines(&self, rows: usize) -> Vec<String> {
+        self.entries
+            .iter()
+            .map(|(name, raw, words, devices)| {
+                if rows > 1 {
+                    let list: Vec<String> = devices.iter().map(u8::to_string).collect();
+                    format!("{name} {raw} (dev {}): {words}", list.join(", "))
+                } else {
+                    format!("{name} {raw}: {words}")
+                }
+            })
+            .collect()
+    }
+}
+
 /// The round as JSON lines: one object per device.
 pub fn json_lines(round: &Round) -> Vec<String> {
     round
@@ -455,6 +497,7 @@ pub fn json_lines(round: &Round) -> Vec<String> {
                     json::array(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
                         let object = fresh::register_json(
                             json::Object::new(),
+                            row.target.device,
                             reg,
                             raw,
                             row.is_reading(reg),
