@@ -203,6 +203,15 @@ pub enum HostError {
         source: Box<HostError>,
     },
 
+    /// A script ran to its end with the rover stopped by an exception (exit status 3).
+    #[error("{path} ran to its end with the rover stopped: {}. A board in exception stops its motors until a `reset` line in the script clears it, which holds once the cause is gone (docs/safety.md lists each exception's causes)", faults.join("; "))]
+    EndedInException {
+        /// The script's path.
+        path: String,
+        /// What held the rover stopped at the end, one entry per board.
+        faults: Vec<String>,
+    },
+
     /// The twin could not be started or joined.
     #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH` and pass hostctl the same --port PATH")]
     Twin {

@@ -46,6 +46,9 @@ pub struct Exception {
     /// The controller the motor belongs to: the one the master's value names, or the one
     /// a slave's value was read from.
     board: u8,
+    /// A slave's value read beside its STATUS with bit 0 set: the board is in this
+    /// exception now, not only last.
+    held: bool,
 }
 
 impl Exception {
@@ -69,6 +72,7 @@ impl Exception {
             controller: Some(high & 0x0f),
             motor: high >> 4,
             board: high & 0x0f,
+            held: false,
         }
     }
 
@@ -80,7 +84,14 @@ impl Exception {
             controller: None,
             motor: high,
             board: device,
+            held: false,
         }
+    }
+
+    /// The same value, known to be the exception the board is in now (its STATUS bit 0
+    /// is set): its words drop the note that the value outlives the exception.
+    pub fn held(self) -> Exception {
+        Exception { held: true, ..self }
     }
 
     /// Whether the value says nothing happened: the master's 0 (a slave always holds its
@@ -117,6 +128,7 @@ impl Exception {
                 self.type_name(),
                 self.motor_words()
             ),
+            None if self.held => format!("{}, {}", self.type_name(), self.motor_words()),
             None => format!(
                 "{}, {} (the last exception)",
                 self.type_name(),
@@ -214,6 +226,11 @@ mod tests {
         assert_eq!(
             Exception::slave(6, 0x0101).words(),
             "overcurrent, motor 1 (wheel 4's lift) (the last exception)"
+        );
+        // Read beside STATUS bit 0: the exception the board is in now.
+        assert_eq!(
+            Exception::slave(6, 0x0101).held().words(),
+            "overcurrent, motor 1 (wheel 4's lift)"
         );
     }
 

@@ -28,14 +28,8 @@ impl Object {
     }
 
     /// Adds a number member; non-finite values become `null`.
-    pub fn num(mut self, key: &str, value: f32) -> Self {
-        self.key(key);
-        if value.is_finite() {
-            let _ = write!(self.text, "{value}");
-        } else {
-            self.text.push_str("null");
-        }
-        self
+    pub fn num(self, key: &str, value: f32) -> Self {
+        self.raw(key, &number(value))
     }
 
     /// Adds a string member.
@@ -64,6 +58,15 @@ impl Object {
         }
         self.text.push('}');
         self.text
+    }
+}
+
+/// `value` as a JSON number; non-finite values become `null`.
+pub fn number(value: f32) -> String {
+    if value.is_finite() {
+        value.to_string()
+    } else {
+        "null".to_owned()
     }
 }
 

@@ -153,6 +153,16 @@ pub fn run<P: Port>(
     run_with(cli, env_port, || Err(HostError::NoPort), open, style, out)
 }
 
+/// The exit status for a failure: 3 for a script that ran to its end with the rover in
+/// exception ([`HostError::EndedInException`]), so a program can tell it from a script
+/// that could not run; 1 for anything else (clap's usage errors are 2).
+pub fn exit_status(error: &HostError) -> std::process::ExitCode {
+    match error {
+        HostError::EndedInException { .. } => std::process::ExitCode::from(3),
+        _ => std::process::ExitCode::FAILURE,
+    }
+}
+
 /// [`run`], with `fallback` naming the port when neither `--port` nor `BLODWEN_PORT` does
 /// (the binary joins or starts the twin there, see [`twin`]). It is called only after the
 /// input has been checked.

@@ -538,3 +538,82 @@ fn a_python_program_written_from_the_reference_drives_the_twin() {
     }
     twin.finish();
 }
+
+#[test]
+fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
+    use clap::Parser;
+    let twin = Linked::start("twin-pty-faulted-run");
+    // 8 A on wheel 3's drive sense (controller 4, motor 0) for the whole run: once the
+    // script's `reset` takes the board out of its boot state, it raises SHORTOC (a current
+    // above the threshold at a duty of 250 or less); the master's ping spreads it.
+    twin::control::send(&twin.control, "spike 3 drive 8 20000").expect("the twin takes it");
+    let dir = std::env::temp_dir().join(format!("faulted-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = dir.join("faulted.rover");
+    std::fs::write(&script, "calibrate\nreset\nwait 5\n").unwrap();
+    let cli = hostctl::Cli::try_parse_from([
+        "hostctl",
+        "--port",
+        &twin.port,
+        "--json",
+        "run",
+        &script.display().to_string(),
+    ])
+    .unwrap();
+    let style = hostctl::Style {
+        json: true,
+        in_place: false,
+        width: || None,
+    };
+    let mut out = Vec::new();
+    let open = |p: &str| hostctl::link::open_serial(p, Duration::ZERO);
+    let err = hostctl::run(&cli, None, open, style, &mut out).expect_err("the rover ends stopped");
+    let text = String::from_utf8(out).unwrap();
+    let short = "short (overcurrent at low duty)";
+    match &err {
+        hostctl::HostError::EndedInException { faults, .. } => {
+            assert_eq!(
+                faults[3],
+                format!("controller 4: {short}, motor 0 (wheel 3's drive)"),
+                "{faults:?}"
+            );
+            assert_eq!(
+                faults.last().map(String::as_str),
+                Some(
+                    format!("master: {short} on controller 4, motor 0 (wheel 3's drive)").as_str()
+                ),
+                "{faults:?}"
+            );
+        }
+        other => panic!("not the end state: {other}"),
+    }
+    assert_eq!(hostctl::exit_status(&err), std::process::ExitCode::from(3));
+    // The last view, for a program: the faulted motor's exception taken apart where it is,
+    // the spread one on every other wheel, the master's state beside them.
+    let view = text
+        .lines()
+        .rfind(|l| l.contains("\"wheels\""))
+        .expect("a view");
+    let shortoc = format!(
+        r#""exception":{{"type":8,"name":"{short}","motor":0,"wheel":3,"wheel_motor":"drive","text":"{short}, motor 0 (wheel 3's drive)"}}"#
+    );
+    assert!(view.contains(&shortoc), "{view}");
+    assert!(
+        view.contains(r#""wheel":1,"drive":{"#) && view.contains(r#""type":3,"name":"remote"#),
+        "{view}"
+    );
+    assert!(
+        view.contains(&format!(
+            r#""master_state":{{"exception":{{"type":8,"name":"{short}","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
+        )),
+        "{view}"
+    );
+    // And the failure as the last line.
+    let last = text.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with(r#"{"command":"run","error":""#) && last.contains("rover stopped"),
+        "{last}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    twin.finish();
+}

@@ -11,7 +11,8 @@ use shared::regs::{id, BoardKind};
 use super::pc::{device_of, Motor, Pairs, Pc, Send, WHEELS};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
-use crate::exception::{type_name, Exception};
+use crate::exception::Exception;
+use crate::json;
 use crate::link::Link;
 use crate::port::Port;
 use crate::resolve::{self, Target};
@@ -306,21 +307,33 @@ fn reading(s: &Snapshot, device: u8, reg: u8, decimals: usize) -> String {
     }
 }
 
-/// A slave's exception as update() decodes it: the type while STATUS bit 0 is set.
-fn slave_exception(s: &Snapshot, device: u8) -> Option<(u8, u8)> {
+/// A slave's exception as update() decodes it: its EXCEPTIONDATA while STATUS bit 0 is set.
+fn slave_exception(s: &Snapshot, device: u8) -> Option<Exception> {
     let status = s.raw(device, id::REG_STATUS)?;
     if status & 1 == 0 {
         return None;
     }
-    let e = Exception::slave(device, s.raw(device, id::REG_EXCEPTIONDATA)?);
-    Some((e.code, e.motor))
+    Some(Exception::slave(device, s.raw(device, id::REG_EXCEPTIONDATA)?).held())
 }
 
 /// Whether `s` shows `device` in its boot state (in exception, type BOOT); `None` when
 /// `s` has no STATUS of it.
 fn in_boot(s: &Snapshot, device: u8) -> Option<bool> {
     s.raw(device, id::REG_STATUS)?;
-    Some(slave_exception(s, device).is_some_and(|(code, _)| code == ExceptionType::Boot as u8))
+    Some(slave_exception(s, device).is_some_and(|e| e.code == ExceptionType::Boot as u8))
+}
+
+/// The exception that holds `motor` of `wheel`, routed as the library routes a board's
+/// (DS: motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
+pub(crate) fn motor_exception(s: &Snapshot, wheel: u8, motor: Motor) -> Option<Exception> {
+    let e = slave_exception(s, device_of(wheel, motor))?;
+    let mine = match motor {
+        Motor::Drive => 0,
+        Motor::Steer => 1,
+        Motor::Lift if wheel % 2 == 1 => 0,
+        Motor::Lift => 1,
+    };
+    (e.motor == mine || e.motor > 1).then_some(e)
 }
 
 /// One wheel's exceptions column: its controllers that did not answer, then its motors'
@@ -347,24 +360,42 @@ pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
     words.join("; ")
 }
 
-/// The exceptions of `wheel`'s three motors in words ("-": none), routed as the library
-/// routes them (DS: motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
+/// What `s` shows holding the rover stopped, in words: each controller in an exception
+/// other than its boot state (one raised, or spread to it), each that did not answer or
+/// whose reply was lost (its state unknown), and the master's exception other than boot.
+/// Empty when nothing does.
+pub(crate) fn raised(s: &Snapshot) -> Vec<String> {
+    let boot = ExceptionType::Boot as u8;
+    let mut faults: Vec<String> = (1..=9)
+        .filter_map(|d| {
+            if s.silent.contains(&d) {
+                Some(format!("controller {d}: no answer"))
+            } else if s.lost.contains(&d) {
+                Some(format!("controller {d}: reply lost, state unknown"))
+            } else {
+                let e = slave_exception(s, d).filter(|e| e.code != boot)?;
+                Some(format!("controller {d}: {}", e.words()))
+            }
+        })
+        .collect();
+    if s.lost.contains(&0) {
+        faults.push("master: reply lost, state unknown".to_owned());
+    } else if let Some(raw) = s.raw(0, id::REGMASTER_EXCEPTIONDATA) {
+        let e = Exception::master(raw);
+        if !e.is_none() && e.code != boot {
+            faults.push(format!("master: {}", e.words()));
+        }
+    }
+    faults
+}
+
+/// The exceptions of `wheel`'s three motors in words ("-": none; one name when all
+/// three share it).
 fn motor_exceptions(s: &Snapshot, wheel: u8) -> String {
-    let mut parts: Vec<(Motor, String)> = Vec::new();
-    if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Drive)) {
-        if m != 1 {
-            parts.push((Motor::Drive, type_name(t)));
-        }
-        if m != 0 {
-            parts.push((Motor::Steer, type_name(t)));
-        }
-    }
-    if let Some((t, m)) = slave_exception(s, device_of(wheel, Motor::Lift)) {
-        let mine = if wheel % 2 == 1 { 0 } else { 1 };
-        if m == mine || m > 1 {
-            parts.push((Motor::Lift, type_name(t)));
-        }
-    }
+    let parts: Vec<(Motor, String)> = [Motor::Drive, Motor::Steer, Motor::Lift]
+        .into_iter()
+        .filter_map(|m| Some((m, motor_exception(s, wheel, m)?.type_name())))
+        .collect();
     match parts.as_slice() {
         [] => "-".to_owned(),
         [(_, a), (_, b), (_, c)] if a == b && b == c => a.clone(),
@@ -435,6 +466,33 @@ pub(crate) fn master_line(s: &Snapshot) -> String {
         "master: {exception}; °C ambient {ambient}, boards {}{unread}",
         temps.join(" ")
     )
+}
+
+/// The master's state for `--json`: `exception` (its EXCEPTIONDATA taken apart, null when
+/// not read) and `temperatures` (`ambient` and nine `boards` in °C, null for no reading);
+/// null as a whole when the serial line lost its reply.
+pub(crate) fn master_json(s: &Snapshot) -> String {
+    if s.lost.contains(&0) {
+        return "null".to_owned();
+    }
+    let temp = |reg: u8| match s.value(0, reg) {
+        Some(v) if !s.no_reading(0, reg) => v,
+        _ => f32::NAN,
+    };
+    let boards =
+        json::array((id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9).map(|reg| json::number(temp(reg))));
+    let exception = match s.raw(0, id::REGMASTER_EXCEPTIONDATA) {
+        Some(raw) => Exception::master(raw).json(),
+        None => "null".to_owned(),
+    };
+    let temperatures = json::Object::new()
+        .num("ambient", temp(id::REGMASTER_TEMPAMBIENT))
+        .raw("boards", &boards)
+        .finish();
+    json::Object::new()
+        .raw("exception", &exception)
+        .raw("temperatures", &temperatures)
+        .finish()
 }
 
 /// The view: one row per wheel, required (the library's last demand) against actual (from
@@ -633,6 +691,84 @@ mod tests {
             "master: exception: stall on controller 2, motor 0 (wheel 2's drive); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
         );
         assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
+    }
+
+    #[test]
+    fn for_programs_each_motor_has_its_exception_and_the_master_its_state() {
+        let s = snapshot();
+        // Controller 2's stall on motor 0 holds wheel 2's drive, not its steer.
+        assert_eq!(
+            motor_exception(&s, 2, Motor::Drive).map(|e| e.json()),
+            Some(
+                r#"{"type":5,"name":"stall","motor":0,"wheel":2,"wheel_motor":"drive","text":"stall, motor 0 (wheel 2's drive)"}"#
+                    .to_owned()
+            )
+        );
+        assert_eq!(motor_exception(&s, 2, Motor::Steer), None);
+        // Controller 4's boot (no motor) holds both of wheel 3's; LL 6's wheel 4's lift.
+        for (wheel, motor) in [(3, Motor::Drive), (3, Motor::Steer), (4, Motor::Lift)] {
+            let e = motor_exception(&s, wheel, motor).expect("in exception");
+            assert_eq!((e.code, e.motor), (2, 5), "wheel {wheel} {motor:?}");
+        }
+        // Controller 1 is not in exception (STATUS bit 0 clear): its last type holds nothing.
+        assert_eq!(motor_exception(&s, 1, Motor::Drive), None);
+        assert_eq!(
+            master_json(&s),
+            r#"{"exception":{"type":5,"name":"stall","controller":2,"motor":0,"wheel":2,"wheel_motor":"drive","text":"stall on controller 2, motor 0 (wheel 2's drive)"},"temperatures":{"ambient":21.498459,"boards":[null,null,null,null,null,null,null,null,null]}}"#
+        );
+        // A sensor with its TEMPSREAD bit clear holds no reading: null, not 0.0 °C.
+        let mut master = vec![
+            (id::REGMASTER_EXCEPTIONDATA, 0),
+            (id::REGMASTER_TEMPAMBIENT, 0x5887),
+            (id::REGMASTER_TEMPSREAD, 0b101),
+        ];
+        master.extend((id::REGMASTER_TEMP1..=id::REGMASTER_TEMP9).map(|r| (r, 0x2aaa)));
+        let m = master_json(&Snapshot::new(vec![(0, master)]));
+        assert!(m.ends_with(
+            r#""temperatures":{"ambient":21.498459,"boards":[null,-0.00061035156,null,null,null,null,null,null,null]}}"#
+        ), "{m}");
+        // The master's reply lost: nothing known.
+        let mut lost = Snapshot::new(Vec::new());
+        lost.lost.push(0);
+        assert_eq!(master_json(&lost), "null");
+    }
+
+    #[test]
+    fn what_holds_the_rover_stopped_leaves_out_the_boot_state() {
+        // Controller 2 in a stall, 4 and 6 in their boot state, the master holding the
+        // stall it spread.
+        let s = snapshot();
+        assert_eq!(
+            raised(&s),
+            [
+                "controller 2: stall, motor 0 (wheel 2's drive)",
+                "master: stall on controller 2, motor 0 (wheel 2's drive)"
+            ]
+        );
+        // A controller silent or its reply lost: its state is in doubt.
+        let mut doubt = Snapshot::new(vec![(0, vec![(id::REGMASTER_EXCEPTIONDATA, 2)])]);
+        doubt.silent.push(5);
+        doubt.lost.push(7);
+        assert_eq!(
+            raised(&doubt),
+            [
+                "controller 5: no answer",
+                "controller 7: reply lost, state unknown"
+            ]
+        );
+        // Every board in its boot state, or out of exception: nothing.
+        let boot = Snapshot::new(vec![
+            (
+                1,
+                vec![(id::REG_STATUS, 9), (id::REG_EXCEPTIONDATA, 0x0502)],
+            ),
+            (
+                3,
+                vec![(id::REG_STATUS, 4), (id::REG_EXCEPTIONDATA, 0x0101)],
+            ),
+            (0, vec![(id::REGMASTER_EXCEPTIONDATA, 0)]),
+        ]);
+        assert!(raised(&boot).is_empty());
     }
 
     #[test]

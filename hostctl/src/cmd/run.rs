@@ -11,11 +11,14 @@
 //! With `--json` every printed thing is one JSON object per line, each with
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
-//! `updates`, `rate`, `wheels` with required (null: none sent this session), actual and
-//! calibrated per motor and the wheel's exceptions in words (null: none),
-//! `master_exception` (null when its reply was lost), `no_answer` (the controllers that did
-//! not answer), `reply_lost` (the devices whose reply the serial line lost; each is read
-//! again next update), `master` (the text view's master line) and, after `show` lines,
+//! `updates`, `rate`, `wheels` with required (null: none sent this session), actual,
+//! calibrated and `exception` per motor (the one holding it, taken apart: type, name,
+//! motor, wheel, text; null: none) and the wheel's exceptions in words (null: none),
+//! `master_exception` (the raw value; null when its reply was lost), `no_answer` (the
+//! controllers that did not answer), `reply_lost` (the devices whose reply the serial line
+//! lost; each is read again next update), `master` (the text view's master line),
+//! `master_state` (its `exception` taken apart and `temperatures`: `ambient` and nine
+//! `boards` in °C, null for no reading; null when its reply was lost) and, after `show` lines,
 //! `shown` (per set, `device` and its `values`: null when the controller did not answer, or
 //! with `reply_lost` when the line lost the reply; an EXCEPTIONDATA value also comes taken
 //! apart as `exception`). A failure ends the output with `error` (see [`crate::run_with`]).
@@ -31,7 +34,8 @@ use shared::regs::{id, Register};
 
 use super::fresh;
 use super::live::{
-    actual, master_line, view_lines, wheel_exceptions, Dropped, Poller, Snapshot, NOT_DEGREES,
+    actual, master_json, master_line, motor_exception, raised, view_lines, wheel_exceptions,
+    Dropped, Poller, Snapshot, NOT_DEGREES,
 };
 use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
@@ -190,7 +194,36 @@ pub fn run<P: Port>(
             }
         })?;
     }
-    Ok(())
+    ended_in_exception(plan, link, &poller, session)
+}
+
+/// The run's outcome once every line is done: an error when the rover ends in an exception
+/// (other than its boot state; see [`raised`]), so a program running the script learns of
+/// it from the exit status. Judged on the last view's update(), or on a fresh one when
+/// frames went out after it; a script with no view is not judged.
+fn ended_in_exception<P: Port>(
+    plan: &Plan,
+    link: &mut Link<P>,
+    poller: &Poller,
+    session: Session,
+) -> Result<(), HostError> {
+    let Some(last) = session.last else {
+        return Ok(());
+    };
+    let end = if session.sent_since_last {
+        poller.update(link)?
+    } else {
+        last
+    };
+    let faults = raised(&end);
+    if faults.is_empty() {
+        Ok(())
+    } else {
+        Err(HostError::EndedInException {
+            path: plan.path.clone(),
+            faults,
+        })
+    }
 }
 
 /// Runs one line's actions. A write the master refuses (it answered, so the link works)
@@ -242,6 +275,10 @@ struct Session {
     dropped: Dropped,
     /// The read sets `show` lines configured, read at every update of a view.
     shown: Vec<SetRead>,
+    /// The last update() a view took.
+    last: Option<Snapshot>,
+    /// Whether a write went out after it.
+    sent_since_last: bool,
 }
 
 /// The values of the `show` sets at one update: each set's device and its registers with
@@ -394,11 +431,18 @@ fn view_json(
                 .num("actual", actual(s, wheel, m).unwrap_or(f32::NAN))
                 .bool("calibrated", dropped.calibrated(&line.pc, wheel, m));
             // An exception dropped the demand: the board no longer aims for it.
-            if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m) {
-                required.bool("dropped", true).finish()
+            let required = if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m)
+            {
+                required.bool("dropped", true)
             } else {
-                required.finish()
+                required
+            };
+            // The exception that holds the motor, taken apart (null: none).
+            match motor_exception(s, wheel, m) {
+                Some(e) => required.raw("exception", &e.json()),
+                None => required.raw("exception", "null"),
             }
+            .finish()
         };
         let object = json::Object::new()
             .int("wheel", wheel)
@@ -431,7 +475,8 @@ fn view_json(
             "reply_lost",
             &json::array(s.lost().iter().map(u8::to_string)),
         )
-        .str("master", &master_line(s));
+        .str("master", &master_line(s))
+        .raw("master_state", &master_json(s));
     // What `show` lines added, when there are any.
     if shown.is_empty() {
         view.finish()
@@ -469,6 +514,7 @@ fn act<P: Port>(
                 // the reset and be kept, where the view takes it as dropped.
                 clock.sleep(RESET_GAP);
             }
+            session.sent_since_last = true;
             let reply = link.transact(send.device, &send.frame, 1)?;
             let code = reply.first().copied().unwrap_or_default();
             if code != 0 {
@@ -520,6 +566,8 @@ fn live<P: Port>(
         let snapshot: Snapshot = poller.update(link)?;
         let shown = read_shown(session, link)?;
         session.dropped.note(&snapshot, &line.pc);
+        session.last = Some(snapshot.clone());
+        session.sent_since_last = false;
         updates += 1;
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
@@ -838,6 +886,61 @@ mod tests {
     }
 
     #[test]
+    fn a_run_that_ends_in_exception_fails_naming_it_judged_on_the_rover_as_it_ends() {
+        // The master's update() reply with EXCEPTIONDATA 0x1401: an overcurrent spread from
+        // controller 4's motor 1.
+        let mut spread = update_replies();
+        let master = spread.last_mut().expect("the master's reply");
+        master[20..22].copy_from_slice(&[0x01, 0x14]);
+        // The last view saw it, and nothing was sent after it: judged on that view.
+        let mut replies = configure_replies();
+        replies.extend(update_replies());
+        replies.extend(spread.clone());
+        let ran = run_script("wait 0.01\n", &replies, false);
+        let faults = vec!["master: overcurrent on controller 4, motor 1 (wheel 3's steer)"];
+        assert!(
+            matches!(&ran.result, Err(HostError::EndedInException { faults: f, .. }) if *f == faults),
+            "{:?}",
+            ran.result
+        );
+        assert_eq!(ran.hex.len(), 10 + 2 * 10, "no update() past the view's");
+        // A write after the last view: one more update() decides, here a clean one.
+        let mut replies = configure_replies();
+        replies.extend(update_replies());
+        replies.extend(spread.clone());
+        replies.push(vec![0]);
+        replies.extend(update_replies());
+        let ran = run_script("wait 0.01\nwrite 0 reset 1\n", &replies, false);
+        ran.result.unwrap();
+        assert_eq!(ran.hex.len(), 10 + 2 * 10 + 1 + 10);
+        // The same script with the exception still there at its end.
+        let mut replies = configure_replies();
+        replies.extend(update_replies());
+        replies.extend(update_replies());
+        replies.push(vec![0]);
+        replies.extend(spread);
+        let ran = run_script("wait 0.01\nwrite 0 reset 1\n", &replies, true);
+        assert!(
+            matches!(&ran.result, Err(HostError::EndedInException { faults: f, .. }) if *f == faults),
+            "{:?}",
+            ran.result
+        );
+        // A script that never looked at the rover is not judged.
+        let mut replies = configure_replies();
+        replies.push(vec![0]);
+        run_script("write 0 reset 1\n", &replies, false)
+            .result
+            .unwrap();
+        assert_eq!(
+            crate::exit_status(&HostError::EndedInException {
+                path: String::new(),
+                faults: Vec::new()
+            }),
+            std::process::ExitCode::from(3)
+        );
+    }
+
+    #[test]
     fn a_shown_angle_brings_its_legend_when_the_view_has_none() {
         // Every wheel calibrated but wheel 1's steer (its CALIBMAX written to 70°), and
         // controller 1 misses update()'s read: the view has no position to mark, so no
@@ -852,7 +955,13 @@ mod tests {
         replies.push(vec![0x00, 0x80]);
         let source = "show 1 steer_actualpos\ncalibrate\nwrite 1 steer_calibmax 70\nwait 0\n";
         let ran = run_script(source, &replies, false);
-        ran.result.unwrap();
+        // A controller that does not answer at the end is a doubt the exit status reports.
+        assert!(
+            matches!(&ran.result, Err(HostError::EndedInException { faults, .. })
+                if faults == &["controller 1: no answer"]),
+            "{:?}",
+            ran.result
+        );
         let text = ran.text;
         assert!(
             text.contains("\ndevice 1: STEER_ACTUALPOS 0.006 deg*\n"),
@@ -877,7 +986,15 @@ mod tests {
             }
         }
         let ran = run_script("wait 0.01\n", &replies, false);
-        ran.result.unwrap();
+        let ended = ran
+            .result
+            .expect_err("the run ends with controller 4 silent");
+        assert_eq!(
+            ended.to_string(),
+            "t.rover ran to its end with the rover stopped: controller 4: no answer. A board \
+             in exception stops its motors until a `reset` line in the script clears it, \
+             which holds once the cause is gone (docs/safety.md lists each exception's causes)"
+        );
         let text = ran.text;
         assert!(
             text.contains(
@@ -896,7 +1013,7 @@ mod tests {
             "ten reads and two probes an update"
         );
         let ran = run_script("wait 0.01\n", &replies, true);
-        ran.result.unwrap();
+        assert!(ran.result.is_err());
         assert!(ran.text.contains("\"no_answer\":[4]"), "{}", ran.text);
         assert!(
             ran.text
@@ -1123,7 +1240,7 @@ write 4 reset 2
         // else was sent (null). No `calibrate`: the positions are not degrees.
         let wheel = |n: u8, drive: &str, dropped: &str| {
             format!(
-                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true{dropped}}},"steer":{{"required":null,"actual":-200,"calibrated":false}},"lift":{{"required":null,"actual":-200,"calibrated":false}},"exceptions":null}}"#
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true{dropped},"exception":null}},"steer":{{"required":null,"actual":-200,"calibrated":false,"exception":null}},"lift":{{"required":null,"actual":-200,"calibrated":false,"exception":null}},"exceptions":null}}"#
             )
         };
         let wheels: Vec<String> = (1..=6)
@@ -1135,7 +1252,7 @@ write 4 reset 2
         assert_eq!(
             lines[6],
             format!(
-                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"no_answer":[],"reply_lost":[],"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)"}}"#,
+                r#"{{"command":"run","line":3,"elapsed_s":0.01,"updates":2,"rate":200,"wheels":[{}],"master_exception":0,"no_answer":[],"reply_lost":[],"master":"master: no exception; °C ambient -, boards - - - - - - - - - (- no reading: not read yet, one sensor every 2 s from 5 s after boot; missing; or its last read failed)","master_state":{{"exception":{{"type":0,"name":null,"controller":0,"motor":0,"text":"no exception"}},"temperatures":{{"ambient":null,"boards":[null,null,null,null,null,null,null,null,null]}}}}}}"#,
                 wheels.join(",")
             )
         );
