@@ -158,11 +158,11 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// or `watch` after it (the script's end reboots the rover at once). A demand before the
 /// calibration but after the reset is kept and acts once the gains arrive.
 pub fn notes(lines: &[Line]) -> Vec<String> {
-    fn first_word(l: &Line) -> &str {
-        l.text.split_whitespace().next().unwrap_or("")
+    fn first_word(l: &Line) -> String {
+        command_word(&l.text)
     }
     fn is_demand(l: &&Line) -> bool {
-        matches!(first_word(l), "drive" | "steer" | "turn" | "lift")
+        matches!(first_word(l).as_str(), "drive" | "steer" | "turn" | "lift")
     }
     let mut notes = hard_reset_notes(lines);
     notes.extend(pc_timeout_notes(lines));
@@ -215,7 +215,7 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
 /// them: the stop sends every motor the library's default block, whose gains are 0
 /// (reference §10.3), so the demand moves nothing.
 fn after_stop_notes(lines: &[Line]) -> Vec<String> {
-    let word = |l: &Line| l.text.split_whitespace().next().unwrap_or("").to_owned();
+    let word = |l: &Line| command_word(&l.text);
     let mut notes = Vec::new();
     let mut stop = None;
     for line in lines {
@@ -297,6 +297,15 @@ fn hard_reset_notes(lines: &[Line]) -> Vec<String> {
     notes
 }
 
+/// A line's command word, in lower case: commands are read whatever their case
+/// (`Drive ALL 100`), as register names are.
+fn command_word(text: &str) -> String {
+    text.split_whitespace()
+        .next()
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
+
 /// `raw` without its comment. A `#` inside a word (`#1`, `a#b`) is text, so `say` can
 /// print it.
 fn without_comment(raw: &str) -> &str {
@@ -323,6 +332,8 @@ enum Why {
     Usage(&'static str),
     /// A limit of the rover's, in words.
     Limit(&'static str),
+    /// Anything else, in words.
+    Text(String),
     Number(String),
     Host(HostError),
 }
@@ -332,6 +343,7 @@ impl std::fmt::Display for Why {
         match self {
             Why::Usage(u) => write!(f, "usage: {u}"),
             Why::Limit(l) => write!(f, "{l}"),
+            Why::Text(t) => write!(f, "{t}"),
             Why::Number(n) => write!(f, "`{n}` is not a number"),
             Why::Host(e) => write!(f, "{e}"),
         }
@@ -357,7 +369,7 @@ fn number(word: &str) -> Result<f32, Why> {
 
 /// `all` (the fitted wheels) or one wheel.
 fn wheels(word: &str, pairs: Pairs, usage: &'static str) -> Result<Vec<u8>, Why> {
-    if word == "all" {
+    if word.eq_ignore_ascii_case("all") {
         return Ok(pairs.wheels().collect());
     }
     match word.parse::<u8>() {
@@ -381,7 +393,10 @@ fn ops(list: Vec<Op>) -> Vec<Action> {
 /// One line's actions, updating the library state `pc`; a `show` line takes a read set of
 /// `show_sets`.
 fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>, Why> {
-    let words: Vec<&str> = text.split_whitespace().collect();
+    let command = command_word(text);
+    let words: Vec<&str> = std::iter::once(command.as_str())
+        .chain(text.split_whitespace().skip(1))
+        .collect();
     let set = |pc: &mut Pc, motor, targets: &[u8], value| -> Result<Vec<Action>, Why> {
         targets
             .iter()
@@ -397,6 +412,14 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
                 device: (*dev).to_owned(),
                 register: (*reg).to_owned(),
                 value: (*value).to_owned(),
+            })
+            .map_err(|e| match e {
+                // In a script the way to see it is a `show` line, not another command.
+                HostError::ReadOnly { register, device } => Why::Text(format!(
+                    "{register} on device {device} is read-only; a `show {device} {register}` \
+                     line adds it to every later view"
+                )),
+                e => Why::Host(e),
             })?;
             pc.pairs().check_device(plan.target.device)?;
             pc.note_write(plan.target.device, plan.reg.id, plan.raw, plan.value);
@@ -460,7 +483,9 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
         }]),
         ["wait" | "watch", ..] => Err(Why::Usage("wait|watch SECONDS")),
         ["say", ..] => Ok(vec![Action::Say(
-            text.strip_prefix("say").unwrap_or("").trim().to_owned(),
+            text.split_once(char::is_whitespace)
+                .map_or("", |(_, said)| said.trim())
+                .to_owned(),
         )]),
         _ => Err(Why::Usage(COMMANDS)),
     }
@@ -703,7 +728,11 @@ mod tests {
             "demo.rover line 1 (`drive all fast`): `fast` is not a number"
         );
         assert!(refusal("drive 1 5000").contains("5000 is out of range for REGDS_DRIVE_REQSPEED"));
-        assert!(refusal("write 0 TEMP1 3").contains("read-only"));
+        assert_eq!(
+            refusal("write 0 TEMP1 3"),
+            "demo.rover line 1 (`write 0 TEMP1 3`): REGMASTER_TEMP1 on device 0 is read-only; a \
+             `show 0 REGMASTER_TEMP1` line adds it to every later view"
+        );
         // The PC-silence failsafe is armed from a script like any master register.
         assert!(parse("s", "write 0 pctimeout 500").is_ok());
         assert!(refusal("wait -1").contains("usage: wait SECONDS"));
@@ -719,5 +748,29 @@ mod tests {
         );
         assert!(parse("s", "calibrate\nstop\nsteer 1 60").is_ok());
         assert!(refusal("calibrate\nturn 50").contains("wheel 2 steer 50"));
+    }
+
+    #[test]
+    fn commands_are_read_whatever_their_case_and_say_keeps_its_own() {
+        let upper = parse(
+            "s",
+            "CALIBRATE\nReset\nDrive ALL 100\nWAIT 1\nSay Hello #1\n",
+        )
+        .unwrap();
+        let lower = parse(
+            "s",
+            "calibrate\nreset\ndrive all 100\nwait 1\nsay Hello #1\n",
+        )
+        .unwrap();
+        let actions = |lines: &[Line]| lines.iter().map(|l| l.actions.clone()).collect::<Vec<_>>();
+        assert_eq!(actions(&upper), actions(&lower));
+        assert_eq!(upper[4].actions, [Action::Say("Hello #1".to_owned())]);
+        // The notes read the commands the same way: this script needs none.
+        assert!(notes(&upper).is_empty(), "{:?}", notes(&upper));
+        assert_eq!(
+            notes(&parse("s", "Drive 1 100\nWait 1").unwrap()).len(),
+            2,
+            "no reset, no calibrate"
+        );
     }
 }
