@@ -578,7 +578,17 @@ fn a_temperature_the_master_has_not_read_is_no_reading() {
         o.out,
         "device 0 REGMASTER_TEMPAMBIENT: no reading (raw 0x2aaa): not read yet: the master \
          reads one sensor every 2 s from 5 s after boot, and opening the port rebooted it; or \
-         the sensor is missing, or its last read failed\n"
+         the sensor is missing, or its last read failed\nnote: this sensor is first read about \
+         5 s after the master's boot: `hostctl --settle-ms 6000 read 0 TEMPAMBIENT` waits for \
+         it; with no reading then, the sensor is missing or its reads fail (`hostctl watch \
+         --readset 2` shows every sensor as it is read)\n"
+    );
+    // Controller 9's sensor is the tenth read, 18 s later.
+    let o = hostctl("read 0 temp9", &unread);
+    assert!(
+        o.out.contains("first read about 23 s after the master's boot: `hostctl --settle-ms 24000 read 0 TEMP9`"),
+        "{}",
+        o.out
     );
     let o = hostctl("--json read 0 tempambient", &unread);
     assert_eq!(

@@ -6,7 +6,7 @@
 //! The notes here say so, rather than let a value or a write pass as more than it is.
 
 use shared::mapping;
-use shared::regs::{id, Register};
+use shared::regs::{id, Register, MASTER};
 
 use super::read::SCRATCH_SET;
 use super::{configure, set_frame, SetRead};
@@ -134,6 +134,23 @@ pub fn sensor_bit(target: Target, reg: &Register) -> Option<u16> {
     let temps = id::REGMASTER_TEMPAMBIENT..=id::REGMASTER_TEMP9;
     (target.device == 0 && temps.contains(&reg.id))
         .then(|| 1 << (reg.id - id::REGMASTER_TEMPAMBIENT))
+}
+
+/// How to get a first reading of master temperature `reg` in one command: the master reads
+/// sensor i (0 ambient, n controller n's) on its temperature tick i, about 5 + 2·i s after
+/// its boot (reference §9.1), which opening the port causes; `--settle-ms` waits that long,
+/// and a second more, before the read. `None` for any other register.
+pub fn first_read_hint(reg: &Register) -> Option<String> {
+    let index = (id::REGMASTER_TEMPAMBIENT..=id::REGMASTER_TEMP9)
+        .position(|i| *reg == MASTER[usize::from(i)])?;
+    let settle_ms = (5 + 2 * index + 1) * 1000;
+    Some(format!(
+        "this sensor is first read about {} s after the master's boot: `hostctl --settle-ms \
+         {settle_ms} read 0 {}` waits for it; with no reading then, the sensor is missing or \
+         its reads fail (`hostctl watch --readset 2` shows every sensor as it is read)",
+        5 + 2 * index,
+        reg.short_name()
+    ))
 }
 
 /// Why a temperature whose REGMASTER_TEMPSREAD bit is clear is no reading (it holds 0.0 °C).

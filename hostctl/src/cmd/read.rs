@@ -94,12 +94,16 @@ fn report(target: Target, reg: &Register, raw: u16, read: Option<bool>, json: bo
     }
     if read == Some(false) {
         // 0.0 °C here is no reading: not shown as a temperature.
-        return format!(
+        let text = format!(
             "device {} {}: no reading (raw 0x{raw:04x}): {}",
             target.device,
             reg.name,
             fresh::NOT_READ
         );
+        return match fresh::first_read_hint(reg) {
+            Some(hint) => format!("{text}\nnote: {hint}"),
+            None => text,
+        };
     }
     let text = format!(
         "device {} {} = {}{} (raw 0x{:0width$x})",
