@@ -166,6 +166,7 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
     }
     let mut notes = hard_reset_notes(lines);
     notes.extend(pc_timeout_notes(lines));
+    notes.extend(speed_notes(lines));
     let Some(demand) = lines.iter().find(is_demand) else {
         return notes;
     };
@@ -209,6 +210,29 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         }
     }
     notes
+}
+
+/// The manual's "about the highest safe speed" (reference §13), ticks/s.
+pub const SAFE_SPEED: f32 = 2500.0;
+
+/// A `drive` line asking for more than [`SAFE_SPEED`] either way: the library allows
+/// ±4000, so it is sent, but the manual warns against it.
+fn speed_notes(lines: &[Line]) -> Vec<String> {
+    lines
+        .iter()
+        .filter(|l| command_word(&l.text) == "drive")
+        .filter_map(|l| {
+            // `drive W|all SPEED`, checked when the line was parsed.
+            let speed = l.text.split_whitespace().nth(2)?.parse::<f32>().ok()?;
+            (speed.abs() > SAFE_SPEED).then(|| {
+                format!(
+                    "line {} drives at {speed} ticks/s, beyond the ±{SAFE_SPEED} the manual \
+                     calls about the highest safe speed; it is sent (the library allows ±4000)",
+                    l.number
+                )
+            })
+        })
+        .collect()
 }
 
 /// A demand after a `stop` with no `calibrate` (or `write`, which may set gains) between
@@ -772,5 +796,22 @@ mod tests {
             2,
             "no reset, no calibrate"
         );
+    }
+
+    #[test]
+    fn a_drive_beyond_the_manual_s_safe_speed_is_noted_and_sent() {
+        let lines = parse(
+            "s",
+            "calibrate\nreset\ndrive all -3000\ndrive 2 2500\nwait 1",
+        )
+        .unwrap();
+        assert_eq!(
+            notes(&lines),
+            [
+                "line 3 drives at -3000 ticks/s, beyond the ±2500 the manual calls about the \
+                 highest safe speed; it is sent (the library allows ±4000)"
+            ]
+        );
+        assert_eq!(frames(&lines[2..3]).len(), 6, "sent to all six wheels");
     }
 }
