@@ -137,6 +137,23 @@ pub enum HostError {
         devices: String,
     },
 
+    /// `watch --device` names boards on which the registers are different ids.
+    #[error("the registers are ids {first_ids} on device {first} ({first_board}) but {other_ids} on device {other} ({other_board}); a read set holds ids, which each device reads on its own table, so watch the master and the controllers separately")]
+    MixedSetIds {
+        /// The first device.
+        first: u8,
+        /// Its board kind.
+        first_board: &'static str,
+        /// The ids there, e.g. `[11]`.
+        first_ids: String,
+        /// A device where they differ.
+        other: u8,
+        /// Its board kind.
+        other_board: &'static str,
+        /// The ids there.
+        other_ids: String,
+    },
+
     /// A demand outside the position limits the original library enforces.
     #[error("wheel {wheel} {motor} {value} is outside its limits {min}..{max} (the calibration less 10°)")]
     PositionLimit {

@@ -879,6 +879,73 @@ fn watch_standard_set_0_polls_every_ds_board() {
 }
 
 #[test]
+fn watch_polls_a_set_of_its_own_on_several_boards() {
+    // Every DS board's drive duty side by side: set 3 configured once (via device 1), then
+    // read from each board in turn.
+    let mut replies: Vec<Vec<u8>> = vec![vec![0x01]];
+    replies.extend((0..6u8).map(|d| vec![0x80 + d, 0x00]));
+    let o = hostctl(
+        "watch --readset 3 --device DS drive_control --count 1",
+        &replies,
+    );
+    o.result.unwrap();
+    assert_eq!(
+        o.port.frames_hex(),
+        [
+            "04 14 03 14",
+            "03 13 03",
+            "03 23 03",
+            "03 43 03",
+            "03 53 03",
+            "03 73 03",
+            "03 83 03"
+        ]
+    );
+    let rows: Vec<&str> = o
+        .out
+        .lines()
+        .skip(3)
+        .map(|l| l.split_whitespace().next().unwrap_or(""))
+        .collect();
+    assert_eq!(rows, ["1", "2", "4", "5", "7", "8"]);
+    // A list, in the order given, each device once.
+    let o = hostctl(
+        "watch --readset 3 --device 7,1,7 status --count 1",
+        &[&[0x01][..], &[0x08, 0], &[0x09, 0]],
+    );
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 74 03 03", "03 73 03", "03 13 03"]);
+    assert!(
+        o.out
+            .contains("STATUS 8 (dev 7): DS board, not in exception"),
+        "{}",
+        o.out
+    );
+    // The same name is another id on the master: refused before anything is sent.
+    let o = hostctl(
+        "watch --readset 3 --device 0,1 exceptiondata --count 1",
+        &[] as &[&[u8]],
+    );
+    assert_eq!(
+        o.result.unwrap_err().to_string(),
+        "the registers are ids [11] on device 0 (MASTER) but [5] on device 1 (DS); a read \
+         set holds ids, which each device reads on its own table, so watch the master and the \
+         controllers separately"
+    );
+    assert!(o.port.frames_hex().is_empty());
+    // A kind's standard set on the other kind's boards is refused as before.
+    let o = hostctl(
+        "watch --readset 0 --device ds,ll --count 1",
+        &[] as &[&[u8]],
+    );
+    assert!(o
+        .result
+        .unwrap_err()
+        .to_string()
+        .starts_with("read set 0's standard contents are for DS boards, but device 3 is LL"),);
+}
+
+#[test]
 fn watch_standard_sets_1_and_2_match_the_library() {
     let mut replies: Vec<Vec<u8>> = vec![vec![0x12]];
     replies.extend((0..3).map(|_| vec![0u8; 36]));

@@ -35,8 +35,9 @@ pub struct Args {
     /// Read set to poll, 0..7.
     #[arg(long, value_name = "N")]
     pub readset: String,
-    /// Poll only this device [default: DS boards for set 0, LL boards for set 1, else the master].
-    #[arg(long, value_name = "D")]
+    /// The devices to poll: a number, a list (`1,4,7`) or every board of a kind (`ds`,
+    /// `ll`) [default: DS boards for set 0, LL boards for set 1, else the master].
+    #[arg(long, value_name = "D[,D…]")]
     pub device: Option<String>,
     /// Stop after this many rounds [default: run until interrupted].
     #[arg(long, value_name = "K")]
@@ -149,6 +150,47 @@ fn default_devices(set: u8) -> Vec<u8> {
         .collect()
 }
 
+/// The devices `--device` names: a number, several separated by commas (`1,4,7`), or
+/// every board of a kind (`ds`, `ll`, any case), in the order given, each once.
+fn devices(text: &str) -> Result<Vec<Target>, HostError> {
+    let mut targets: Vec<Target> = Vec::new();
+    for part in text.split(',').map(str::trim) {
+        let kind = [BoardKind::DriveSteer, BoardKind::LiftLift]
+            .into_iter()
+            .find(|k| k.name().eq_ignore_ascii_case(part));
+        let named = match kind {
+            Some(kind) => (1..=shared::protocol::MAX_DEVICE)
+                .filter(|&d| BoardKind::of_device(d) == Some(kind))
+                .filter_map(Target::of)
+                .collect(),
+            None => vec![resolve::device(part)?],
+        };
+        for target in named {
+            if !targets.contains(&target) {
+                targets.push(target);
+            }
+        }
+    }
+    Ok(targets)
+}
+
+/// Refuses reads whose registers are other ids than `first`'s: the set is configured once,
+/// with `first`'s ids, and each device reads those ids on its own table.
+fn same_ids(first: &SetRead, reads: &[SetRead]) -> Result<(), HostError> {
+    let ids = |read: &SetRead| read.regs.iter().map(|r| r.id).collect::<Vec<u8>>();
+    match reads.iter().find(|read| ids(read) != ids(first)) {
+        None => Ok(()),
+        Some(other) => Err(HostError::MixedSetIds {
+            first: first.target.device,
+            first_board: first.target.board(),
+            first_ids: format!("{:?}", ids(first)),
+            other: other.target.device,
+            other_board: other.target.board(),
+            other_ids: format!("{:?}", ids(other)),
+        }),
+    }
+}
+
 /// REGMASTER_TEMPSREAD, read through a set of its own beside the watched one.
 #[derive(Debug)]
 pub struct TempsRead {
@@ -185,7 +227,7 @@ pub fn plan(args: &Args) -> Result<Plan, HostError> {
         return Err(HostError::ZeroCount);
     }
     let targets: Vec<Target> = match &args.device {
-        Some(text) => vec![resolve::device(text)?],
+        Some(text) => devices(text)?,
         None => default_devices(set)
             .into_iter()
             .filter_map(Target::of)
@@ -201,6 +243,7 @@ pub fn plan(args: &Args) -> Result<Plan, HostError> {
         reads.push(SetRead::new(target, set, regs)?);
     }
     let first = reads.first().ok_or(HostError::NoStandardSet { set })?;
+    same_ids(first, &reads)?;
     let set_frame = super::set_frame(first.target, set, &first.regs)?;
     let temps_read = temps_read_of(set, &reads)?;
     Ok(Plan {
