@@ -26,8 +26,9 @@ pub struct Cli {
     pub port: Option<String>,
 
     /// Print one JSON object per line instead of text for people. A failure is a last
-    /// line `{"command":…,"error":…}` (a script's also with its `line` and `text`), as well
-    /// as the error on stderr and exit status 1.
+    /// line `{"command":…,"error":…}` (a script's also with its `line` and `text`; a run
+    /// that ended with the rover stopped with its `faults`), as well as the error on stderr
+    /// and exit status 1 (3 for that run).
     #[arg(long, global = true)]
     pub json: bool,
 

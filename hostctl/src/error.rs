@@ -137,21 +137,21 @@ pub enum HostError {
         devices: String,
     },
 
-    /// `watch --device` names boards on which the registers are different ids.
-    #[error("the registers are ids {first_ids} on device {first} ({first_board}) but {other_ids} on device {other} ({other_board}); a read set holds ids, which each device reads on its own table, so watch the master and the controllers separately")]
-    MixedSetIds {
+    /// `watch --device` names boards on which the set's ids are different registers.
+    #[error("the set reads {first_regs} on device {first} ({first_board}) but {other_regs} on device {other} ({other_board}); a read set holds ids, which each device reads on its own table, so watch boards of one kind together (the master apart)")]
+    MixedSet {
         /// The first device.
         first: u8,
         /// Its board kind.
         first_board: &'static str,
-        /// The ids there, e.g. `[11]`.
-        first_ids: String,
+        /// The registers there, e.g. `REGMASTER_EXCEPTIONDATA (11)`.
+        first_regs: String,
         /// A device where they differ.
         other: u8,
         /// Its board kind.
         other_board: &'static str,
-        /// The ids there.
-        other_ids: String,
+        /// The registers there.
+        other_regs: String,
     },
 
     /// A demand outside the position limits the original library enforces.
@@ -221,7 +221,7 @@ pub enum HostError {
     },
 
     /// A script ran to its end with the rover stopped by an exception (exit status 3).
-    #[error("{path} ran to its end with the rover stopped: {}. A board in exception stops its motors until a `reset` line in the script clears it, which holds once the cause is gone (docs/safety.md lists each exception's causes)", faults.join("; "))]
+    #[error("{path} ran to its end with the rover stopped: {}. A board in exception stops its motors until a `reset` line in the script clears it, which holds once the cause is gone (docs/safety.md lists each exception's causes); a controller that does not answer is off the bus or unpowered; a rebooted one needs `calibrate` again", faults.join("; "))]
     EndedInException {
         /// The script's path.
         path: String,

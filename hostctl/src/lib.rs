@@ -251,6 +251,11 @@ fn error_json(command: &Command, error: &HostError) -> String {
                 .int("line", i64::try_from(*line).unwrap_or(i64::MAX))
                 .str("text", text)
         }
+        // What held the rover stopped, one entry per board or group of boards.
+        HostError::EndedInException { faults, .. } => object.raw(
+            "faults",
+            &json::array(faults.iter().map(|f| json::string(f))),
+        ),
         _ => object,
     }
     .finish()

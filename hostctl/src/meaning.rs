@@ -4,14 +4,15 @@
 //! RESET). `read` prints the words after the number, `watch` under its table, `--json`
 //! adds the object beside the value.
 
+use shared::exception::ExceptionType;
 use shared::master::LinkError;
-use shared::regs::{id, Register, COMMON, MASTER};
+use shared::regs::{id, BoardKind, Register, COMMON, MASTER};
 
 use crate::exception::Exception;
 use crate::json;
 
 /// REG_STATUS bit 0: in exception (reference §6.2).
-const STATUS_EXCEPTION: u16 = 1;
+pub const STATUS_EXCEPTION: u16 = 1;
 /// REG_STATUS bit 2: a lift/lift board.
 const STATUS_LL: u16 = 4;
 /// REG_STATUS bit 3: a drive/steer board.
@@ -42,8 +43,9 @@ pub enum Meaning {
     SensorsRead(u16),
     /// DISABLEDEXCEPTIONS: bit t set keeps type t from being raised.
     Masked(u16),
-    /// REG_RESET: what a write asks the controller to do.
-    Reset(u16),
+    /// REG_RESET: what a write asks the controller to do, and whether it is a lift
+    /// board (no odometer).
+    Reset(u16, bool),
 }
 
 impl Meaning {
@@ -62,9 +64,19 @@ impl Meaning {
         } else if common(id::REG_DISABLEDEXCEPTIONS) {
             Some(Meaning::Masked(raw))
         } else if common(id::REG_RESET) {
-            Some(Meaning::Reset(raw))
+            let lift = BoardKind::of_device(device) == Some(BoardKind::LiftLift);
+            Some(Meaning::Reset(raw, lift))
         } else {
             None
+        }
+    }
+
+    /// The same, read beside a STATUS with bit 0 set: an EXCEPTIONDATA is then the
+    /// exception the board is in now ([`Exception::held`]).
+    pub fn held(self) -> Meaning {
+        match self {
+            Meaning::Exception(e) => Meaning::Exception(e.held()),
+            other => other,
         }
     }
 
@@ -73,10 +85,11 @@ impl Meaning {
         match self {
             Meaning::Exception(_) => "exception",
             Meaning::Status(_) => "status",
-            Meaning::LastError(_) => "error",
+            // Not `error`: a `--json` line with `error` is a failure.
+            Meaning::LastError(_) => "last_error",
             Meaning::SensorsRead(_) => "sensors_read",
             Meaning::Masked(_) => "masked",
-            Meaning::Reset(_) => "reset",
+            Meaning::Reset(..) => "reset",
         }
     }
 
@@ -95,11 +108,11 @@ impl Meaning {
             Meaning::Masked(bits) => format!(
                 "never raised: {}",
                 masked_types(bits)
-                    .map(|t| format!("{t} {}", crate::exception::type_name(t)))
+                    .map(|t| format!("{t} {}{}", crate::exception::type_name(t), mask_note(t)))
                     .collect::<Vec<_>>()
                     .join("; ")
             ),
-            Meaning::Reset(bits) => reset_words(bits),
+            Meaning::Reset(bits, lift) => reset_words(bits, lift),
         }
     }
 
@@ -130,7 +143,7 @@ impl Meaning {
                 "types",
                 &json::array(masked_types(bits).map(|t| t.to_string())),
             ),
-            Meaning::Reset(bits) => RESET_BITS
+            Meaning::Reset(bits, _) => RESET_BITS
                 .iter()
                 .fold(object, |o, &(bit, key, _)| o.bool(key, bits & bit != 0)),
         };
@@ -191,25 +204,59 @@ fn sensors_words(bits: u16) -> String {
     }
 }
 
+/// What masking type `t` means beyond "never raised", where that misleads.
+fn mask_note(t: u8) -> &'static str {
+    match ExceptionType::from_code(t) {
+        // The boot state is never raised: a board always boots into it.
+        Some(ExceptionType::Boot) => " (no effect: every boot enters it)",
+        Some(ExceptionType::RemoteSlave) => {
+            " (the board then keeps driving when the master spreads another board's fault \
+             or the PC-silence failsafe)"
+        }
+        _ => "",
+    }
+}
+
 /// The exception type codes whose DISABLEDEXCEPTIONS bit is set.
 fn masked_types(bits: u16) -> impl Iterator<Item = u8> {
     (0..16u8).filter(move |t| bits >> t & 1 != 0)
 }
 
-fn reset_words(bits: u16) -> String {
+fn reset_words(bits: u16, lift: bool) -> String {
+    const HARD: u16 = 2;
+    const ODOMETER: u16 = 4;
+    let known = RESET_BITS.iter().fold(0, |all, &(bit, _, _)| all | bit);
+    if bits & HARD != 0 {
+        // The board spins until its watchdog fires: nothing after the hard reset happens,
+        // and it comes back in its boot state.
+        let rest = bits & !HARD;
+        return if rest == 0 {
+            "hard reset (the watchdog reboots the board into its boot state)".to_owned()
+        } else {
+            format!(
+                "hard reset (the watchdog reboots the board into its boot state); bits \
+                 0x{rest:02x} do nothing, as the board reboots first"
+            )
+        };
+    }
     let asked: Vec<&str> = RESET_BITS
         .iter()
-        .filter(|&&(bit, _, _)| bits & bit != 0)
+        .filter(|&&(bit, _, _)| bits & bit != 0 && !(lift && bit == ODOMETER))
         .map(|&(_, _, words)| words)
         .collect();
-    let other = bits & !RESET_BITS.iter().fold(0, |all, &(bit, _, _)| all | bit);
     let mut text = if asked.is_empty() {
         "nothing asked (the board writes it back to 0 once it has acted)".to_owned()
     } else {
         asked.join(", then ")
     };
-    if other != 0 {
-        text.push_str(&format!("; bits 0x{other:02x} do nothing"));
+    let idle = bits & !known | if lift { bits & ODOMETER } else { 0 };
+    if idle != 0 {
+        let why = if lift && idle & ODOMETER != 0 {
+            " (a lift board has no odometer)"
+        } else {
+            ""
+        };
+        text.push_str(&format!("; bits 0x{idle:02x} do nothing{why}"));
     }
     text
 }
@@ -267,6 +314,11 @@ mod tests {
         assert_eq!(
             none.json(),
             r#"{"code":0,"name":null,"text":"no PC-link error since boot"}"#
+        );
+        assert_eq!(
+            none.key(),
+            "last_error",
+            "a member named `error` marks a failure"
         );
         let e = meaning(BoardKind::Master, "LASTERROR", 0, 12).expect("coded");
         assert_eq!(e.words(), "NoAnswer: a slave did not answer on the I2C bus");
@@ -330,6 +382,13 @@ mod tests {
             words(DriveSteer, "DISABLEDEXCEPTIONS", 1, 1 << 9),
             "never raised: 9 type 9"
         );
+        assert_eq!(
+            words(DriveSteer, "DISABLEDEXCEPTIONS", 1, 0b1100),
+            "never raised: 2 boot (no effect: every boot enters it); 3 remote (EXCEPTIONDATA \
+             written: another board's fault spread by the master, or a PC) (the board then \
+             keeps driving when the master spreads another board's fault or the PC-silence \
+             failsafe)"
+        );
     }
 
     #[test]
@@ -337,8 +396,8 @@ mod tests {
         let m = meaning(BoardKind::DriveSteer, "RESET", 1, 7).expect("coded");
         assert_eq!(
             m.words(),
-            "hard reset (the watchdog reboots the board), then leave the exception, then zero \
-             the odometer"
+            "hard reset (the watchdog reboots the board into its boot state); bits 0x05 do \
+             nothing, as the board reboots first"
         );
         assert_eq!(
             m.json(),
@@ -350,6 +409,14 @@ mod tests {
         assert_eq!(
             words(BoardKind::DriveSteer, "RESET", 1, 0x19),
             "leave the exception; bits 0x18 do nothing"
+        );
+        assert_eq!(
+            words(BoardKind::DriveSteer, "RESET", 1, 5),
+            "leave the exception, then zero the odometer"
+        );
+        assert_eq!(
+            words(BoardKind::LiftLift, "RESET", 3, 5),
+            "leave the exception; bits 0x04 do nothing (a lift board has no odometer)"
         );
     }
 

@@ -580,8 +580,10 @@ fn a_temperature_the_master_has_not_read_is_no_reading() {
          reads one sensor every 2 s from 5 s after boot, and opening the port rebooted it; or \
          the sensor is missing, or its last read failed\nnote: this sensor is first read about \
          5 s after the master's boot: `hostctl --settle-ms 6000 read 0 TEMPAMBIENT` waits for \
-         it; with no reading then, the sensor is missing or its reads fail (`hostctl watch \
-         --readset 2` shows every sensor as it is read)\n"
+         it. With no reading even then, it is missing or its reads fail, or another sensor is \
+         missing: the master then never reads the last one(s) in its order (ambient, 1..9), \
+         and its EXCEPTIONDATA says 10, sensor missing (`hostctl watch --readset 2` shows \
+         every sensor as it is read)\n"
     );
     // Controller 9's sensor is the tenth read, 18 s later.
     let o = hostctl("read 0 temp9", &unread);
@@ -841,15 +843,15 @@ fn watch_standard_set_0_polls_every_ds_board() {
     assert_eq!(lines.len(), 3 + 6 + 7 + 1, "{}", o.out);
     assert_eq!(
         lines[9],
-        "STATUS 0 (dev 1, 2, 4, 5, 7, 8): no board kind, not in exception"
+        "STATUS 0 = 0x0000 (dev 1, 2, 4, 5, 7, 8): no board kind, not in exception"
     );
     assert_eq!(
         lines[10],
-        "EXCEPTIONDATA 0 (dev 1): type 0, motor 0 (wheel 1's drive) (the last exception)"
+        "EXCEPTIONDATA 0 = 0x0000 (dev 1): type 0, motor 0 (wheel 1's drive) (the last exception)"
     );
     assert_eq!(
         lines[15],
-        "EXCEPTIONDATA 0 (dev 8): type 0, motor 0 (wheel 6's drive) (the last exception)"
+        "EXCEPTIONDATA 0 = 0x0000 (dev 8): type 0, motor 0 (wheel 6's drive) (the last exception)"
     );
     assert_eq!(lines[0], "read set 0, round 1");
     assert_eq!(
@@ -908,6 +910,21 @@ fn watch_polls_a_set_of_its_own_on_several_boards() {
         .map(|l| l.split_whitespace().next().unwrap_or(""))
         .collect();
     assert_eq!(rows, ["1", "2", "4", "5", "7", "8"]);
+    // EXCEPTIONDATA beside STATUS bit 0 is the exception the board is in now, named by
+    // its wheel; the legend follows the columns.
+    let o = hostctl(
+        "watch --readset 3 --device 4 exceptiondata status --count 1",
+        &[&[0x02][..], &[0x08, 0x01, 0x09, 0x00]],
+    );
+    o.result.unwrap();
+    let legend: Vec<&str> = o.out.lines().skip(4).collect();
+    assert_eq!(
+        legend,
+        [
+            "EXCEPTIONDATA 264 = 0x0108: short (overcurrent at low duty), motor 1 (wheel 3's steer)",
+            "STATUS 9 = 0x0009: DS board, in exception (its motors are stopped)"
+        ]
+    );
     // A list, in the order given, each device once.
     let o = hostctl(
         "watch --readset 3 --device 7,1,7 status --count 1",
@@ -917,7 +934,7 @@ fn watch_polls_a_set_of_its_own_on_several_boards() {
     assert_eq!(o.port.frames_hex(), ["04 74 03 03", "03 73 03", "03 13 03"]);
     assert!(
         o.out
-            .contains("STATUS 8 (dev 7): DS board, not in exception"),
+            .contains("STATUS 8 = 0x0008 (dev 7): DS board, not in exception"),
         "{}",
         o.out
     );
@@ -928,11 +945,28 @@ fn watch_polls_a_set_of_its_own_on_several_boards() {
     );
     assert_eq!(
         o.result.unwrap_err().to_string(),
-        "the registers are ids [11] on device 0 (MASTER) but [5] on device 1 (DS); a read \
-         set holds ids, which each device reads on its own table, so watch the master and the \
-         controllers separately"
+        "the set reads REGMASTER_EXCEPTIONDATA (11) on device 0 (MASTER) but \
+         REG_EXCEPTIONDATA (5) on device 1 (DS); a read set holds ids, which each device \
+         reads on its own table, so watch boards of one kind together (the master apart)"
     );
     assert!(o.port.frames_hex().is_empty());
+    // The same ids that are other registers on a lift board: refused too.
+    let o = hostctl(
+        "watch --readset 3 --device 1,3 9 22 --count 1",
+        &[] as &[&[u8]],
+    );
+    let err = o.result.unwrap_err().to_string();
+    assert!(
+        err.starts_with("the set reads REGDS_DRIVE_REQSPEED (9), REGDS_DRIVE_CURRENT (22) on device 1 (DS) but REGLL_ONE_"),
+        "{err}"
+    );
+    // Registers common to both kinds are the same on each: polled together.
+    let o = hostctl(
+        "watch --readset 3 --device 1,3 status --count 1",
+        &[&[0x01][..], &[0x08, 0], &[0x05, 0]],
+    );
+    o.result.unwrap();
+    assert_eq!(o.port.frames_hex(), ["04 14 03 03", "03 13 03", "03 33 03"]);
     // A kind's standard set on the other kind's boards is refused as before.
     let o = hostctl(
         "watch --readset 0 --device ds,ll --count 1",
@@ -1005,7 +1039,7 @@ fn watch_standard_sets_1_and_2_match_the_library() {
          \x20           degC   degC   degC   degC   degC   degC   degC   degC   degC   degC\n\
          0         21.498      -      -      -      -      -      -      -      -      -  \
          \x20        5121\n\
-         EXCEPTIONDATA 5121: overcurrent on controller 4, motor 1 (wheel 3's steer)\n\
+         EXCEPTIONDATA 5121 = 0x1401: overcurrent on controller 4, motor 1 (wheel 3's steer)\n\
          - no reading: not read yet: the master reads one sensor every 2 s from 5 s after \
          boot, and opening the port rebooted it; or the sensor is missing, or its last read failed\n"
     );

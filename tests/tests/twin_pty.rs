@@ -571,47 +571,65 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     let text = String::from_utf8(out).unwrap();
     let short = "short (overcurrent at low duty)";
     match &err {
-        hostctl::HostError::EndedInException { faults, .. } => {
-            assert_eq!(
-                faults[3],
+        hostctl::HostError::EndedInException { faults, .. } => assert_eq!(
+            faults,
+            &[
                 format!("controller 4: {short}, motor 0 (wheel 3's drive)"),
-                "{faults:?}"
-            );
-            assert_eq!(
-                faults.last().map(String::as_str),
-                Some(
-                    format!("master: {short} on controller 4, motor 0 (wheel 3's drive)").as_str()
-                ),
-                "{faults:?}"
-            );
-        }
+                "controllers 1, 2, 3, 5, 6, 7, 8, 9: remote (EXCEPTIONDATA written: another \
+                 board's fault spread by the master, or a PC), the whole board"
+                    .to_owned(),
+                format!("master: {short} on controller 4, motor 0 (wheel 3's drive)"),
+            ]
+        ),
         other => panic!("not the end state: {other}"),
     }
     assert_eq!(hostctl::exit_status(&err), std::process::ExitCode::from(3));
-    // The last view, for a program: the faulted motor's exception taken apart where it is,
-    // the spread one on every other wheel, the master's state beside them.
+    // The last view, for a program: each motor with its board's exception taken apart (the
+    // short names wheel 3's drive, and stops its steer too), the spread one on every other
+    // wheel, the master's state beside them.
     let view = text
         .lines()
         .rfind(|l| l.contains("\"wheels\""))
         .expect("a view");
+    let wheel = |n: u8| {
+        let from = view
+            .find(&format!(r#"{{"wheel":{n},"#))
+            .expect("the wheel's object");
+        let to = view[from + 1..]
+            .find(r#"{"wheel":"#)
+            .map_or(view.len(), |i| from + 1 + i);
+        &view[from..to]
+    };
     let shortoc = format!(
         r#""exception":{{"type":8,"name":"{short}","motor":0,"wheel":3,"wheel_motor":"drive","text":"{short}, motor 0 (wheel 3's drive)"}}"#
     );
-    assert!(view.contains(&shortoc), "{view}");
-    assert!(
-        view.contains(r#""wheel":1,"drive":{"#) && view.contains(r#""type":3,"name":"remote"#),
-        "{view}"
+    assert_eq!(
+        wheel(3).matches(&shortoc).count(),
+        2,
+        "drive and steer: {}",
+        wheel(3)
     );
+    for n in [1, 2, 4, 5, 6] {
+        assert_eq!(
+            wheel(n)
+                .matches(r#""exception":{"type":3,"name":"remote"#)
+                .count(),
+            3,
+            "wheel {n}'s three motors: {}",
+            wheel(n)
+        );
+    }
     assert!(
         view.contains(&format!(
             r#""master_state":{{"exception":{{"type":8,"name":"{short}","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
         )),
         "{view}"
     );
-    // And the failure as the last line.
+    // And the failure as the last line, with what held the rover stopped.
     let last = text.lines().last().unwrap_or_default();
     assert!(
-        last.starts_with(r#"{"command":"run","error":""#) && last.contains("rover stopped"),
+        last.starts_with(r#"{"command":"run","error":""#)
+            && last.contains(&format!(r#""faults":["controller 4: {short}, motor 0"#)),
         "{last}"
     );
     let _ = std::fs::remove_dir_all(&dir);

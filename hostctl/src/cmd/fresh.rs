@@ -146,8 +146,10 @@ pub fn first_read_hint(reg: &Register) -> Option<String> {
     let settle_ms = (5 + 2 * index + 1) * 1000;
     Some(format!(
         "this sensor is first read about {} s after the master's boot: `hostctl --settle-ms \
-         {settle_ms} read 0 {}` waits for it; with no reading then, the sensor is missing or \
-         its reads fail (`hostctl watch --readset 2` shows every sensor as it is read)",
+         {settle_ms} read 0 {}` waits for it. With no reading even then, it is missing or its \
+         reads fail, or another sensor is missing: the master then never reads the last one(s) \
+         in its order (ambient, 1..9), and its EXCEPTIONDATA says 10, sensor missing \
+         (`hostctl watch --readset 2` shows every sensor as it is read)",
         5 + 2 * index,
         reg.short_name()
     ))
@@ -179,7 +181,9 @@ fn status_bit<P: Port>(
     let frame = set_frame(target, SCRATCH_SET, &[status])?;
     configure(link, target, SCRATCH_SET, &frame, 1)?;
     let raws = SetRead::new(target, SCRATCH_SET, vec![status])?.run(link)?;
-    Ok(raws.first().is_some_and(|s| s & 1 != 0))
+    Ok(raws
+        .first()
+        .is_some_and(|s| s & crate::meaning::STATUS_EXCEPTION != 0))
 }
 
 /// Whether a write of `reg` waits for the exception's reset: the motors' demands and

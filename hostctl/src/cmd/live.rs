@@ -14,6 +14,7 @@ use crate::error::HostError;
 use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
+use crate::meaning::STATUS_EXCEPTION;
 use crate::port::Port;
 use crate::resolve::{self, Target};
 use crate::table::Table;
@@ -179,6 +180,9 @@ pub struct Dropped {
     /// (a watchdog or power reset: the boot state is never raised otherwise) and is back
     /// on its boot calibration.
     in_boot: [Option<bool>; 10],
+    /// Per controller 1..9, whether it has been seen out of its boot state this session:
+    /// one seen back in it has rebooted, its demands and calibration gone.
+    left_boot: [bool; 10],
     /// Per controller 1..9, whether it is in exception as far as this session knows: at
     /// first every one (opening the port rebooted the rover into its boot exception),
     /// then as each update reads it, or as a write to its REG_RESET changes it.
@@ -192,6 +196,7 @@ impl Default for Dropped {
             at: Default::default(),
             calibration_at: Default::default(),
             in_boot: Default::default(),
+            left_boot: [false; 10],
             held: [true; 10],
         }
     }
@@ -236,6 +241,7 @@ impl Dropped {
             let d = usize::from(device);
             rebooted[d] = self.in_boot[d] == Some(false) && now;
             self.in_boot[d] = Some(now);
+            self.left_boot[d] |= !now;
             self.held[d] = slave_exception(s, device).is_some();
         }
         self.mark_held(pc);
@@ -249,6 +255,14 @@ impl Dropped {
                 }
             }
         }
+    }
+
+    /// Whether controller `device` has been seen out of its boot state this session.
+    pub fn left_boot(&self, device: u8) -> bool {
+        self.left_boot
+            .get(usize::from(device))
+            .copied()
+            .unwrap_or(false)
     }
 
     /// Whether `motor` of `wheel` reads in degrees: `pc` has it calibrated
@@ -308,9 +322,9 @@ fn reading(s: &Snapshot, device: u8, reg: u8, decimals: usize) -> String {
 }
 
 /// A slave's exception as update() decodes it: its EXCEPTIONDATA while STATUS bit 0 is set.
-fn slave_exception(s: &Snapshot, device: u8) -> Option<Exception> {
+pub(crate) fn slave_exception(s: &Snapshot, device: u8) -> Option<Exception> {
     let status = s.raw(device, id::REG_STATUS)?;
-    if status & 1 == 0 {
+    if status & STATUS_EXCEPTION == 0 {
         return None;
     }
     Some(Exception::slave(device, s.raw(device, id::REG_EXCEPTIONDATA)?).held())
@@ -323,17 +337,14 @@ fn in_boot(s: &Snapshot, device: u8) -> Option<bool> {
     Some(slave_exception(s, device).is_some_and(|e| e.code == ExceptionType::Boot as u8))
 }
 
-/// The exception that holds `motor` of `wheel`, routed as the library routes a board's
-/// (DS: motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other both).
-pub(crate) fn motor_exception(s: &Snapshot, wheel: u8, motor: Motor) -> Option<Exception> {
+/// The exception the view's column puts on `motor` of `wheel`, routed as the library
+/// routes a board's (DS: motor 0 drive, 1 steer, other both; LL: 0 ONE, 1 TWO, other
+/// both). The board stops both its motors whichever it names (reference §6.4).
+fn motor_exception(s: &Snapshot, wheel: u8, motor: Motor) -> Option<Exception> {
     let e = slave_exception(s, device_of(wheel, motor))?;
-    let mine = match motor {
-        Motor::Drive => 0,
-        Motor::Steer => 1,
-        Motor::Lift if wheel % 2 == 1 => 0,
-        Motor::Lift => 1,
-    };
-    (e.motor == mine || e.motor > 1).then_some(e)
+    e.wheel_motor()
+        .is_none_or(|named| named == (wheel, motor))
+        .then_some(e)
 }
 
 /// One wheel's exceptions column: its controllers that did not answer, then its motors'
@@ -361,20 +372,44 @@ pub(crate) fn wheel_exceptions(s: &Snapshot, wheel: u8) -> String {
 }
 
 /// What `s` shows holding the rover stopped, in words: each controller in an exception
-/// other than its boot state (one raised, or spread to it), each that did not answer or
-/// whose reply was lost (its state unknown), and the master's exception other than boot.
-/// Empty when nothing does.
-pub(crate) fn raised(s: &Snapshot) -> Vec<String> {
+/// other than its boot state (one raised, or spread to it), back in its boot state after
+/// `dropped` saw it out of it (rebooted), not answering or with its reply lost (its state
+/// unknown); controllers in the same state share an entry, the ones a fault was spread to
+/// after the others; then the master's exception other than boot. Empty when nothing does.
+pub(crate) fn raised(s: &Snapshot, dropped: &Dropped) -> Vec<String> {
     let boot = ExceptionType::Boot as u8;
-    let mut faults: Vec<String> = (1..=9)
-        .filter_map(|d| {
-            if s.silent.contains(&d) {
-                Some(format!("controller {d}: no answer"))
-            } else if s.lost.contains(&d) {
-                Some(format!("controller {d}: reply lost, state unknown"))
-            } else {
-                let e = slave_exception(s, d).filter(|e| e.code != boot)?;
-                Some(format!("controller {d}: {}", e.words()))
+    // (words, controllers, spread to them).
+    let mut states: Vec<(String, Vec<u8>, bool)> = Vec::new();
+    for d in 1..=9u8 {
+        let (words, spread) = if s.silent.contains(&d) {
+            ("no answer".to_owned(), false)
+        } else if s.lost.contains(&d) {
+            ("reply lost, state unknown".to_owned(), false)
+        } else {
+            match slave_exception(s, d) {
+                Some(e) if e.code != boot => {
+                    (e.words(), e.code == ExceptionType::RemoteSlave as u8)
+                }
+                Some(_) if dropped.left_boot(d) => (
+                    "rebooted: back in its boot state, its demands and calibration gone".to_owned(),
+                    false,
+                ),
+                _ => continue,
+            }
+        };
+        match states.iter_mut().find(|(w, _, _)| *w == words) {
+            Some((_, devices, _)) => devices.push(d),
+            None => states.push((words, vec![d], spread)),
+        }
+    }
+    states.sort_by_key(|&(_, _, spread)| spread);
+    let mut faults: Vec<String> = states
+        .into_iter()
+        .map(|(words, devices, _)| match devices.as_slice() {
+            [d] => format!("controller {d}: {words}"),
+            _ => {
+                let list: Vec<String> = devices.iter().map(u8::to_string).collect();
+                format!("controllers {}: {words}", list.join(", "))
             }
         })
         .collect();
@@ -704,7 +739,13 @@ mod tests {
                     .to_owned()
             )
         );
+        // The view's column routes it to the drive only, as the library does; for programs
+        // the board's exception holds both its motors (the JSON's per-motor `exception`).
         assert_eq!(motor_exception(&s, 2, Motor::Steer), None);
+        assert_eq!(
+            slave_exception(&s, 2).map(|e| e.wheel_motor()),
+            Some(Some((2, Motor::Drive)))
+        );
         // Controller 4's boot (no motor) holds both of wheel 3's; LL 6's wheel 4's lift.
         for (wheel, motor) in [(3, Motor::Drive), (3, Motor::Steer), (4, Motor::Lift)] {
             let e = motor_exception(&s, wheel, motor).expect("in exception");
@@ -739,7 +780,7 @@ mod tests {
         // stall it spread.
         let s = snapshot();
         assert_eq!(
-            raised(&s),
+            raised(&s, &Dropped::default()),
             [
                 "controller 2: stall, motor 0 (wheel 2's drive)",
                 "master: stall on controller 2, motor 0 (wheel 2's drive)"
@@ -750,7 +791,7 @@ mod tests {
         doubt.silent.push(5);
         doubt.lost.push(7);
         assert_eq!(
-            raised(&doubt),
+            raised(&doubt, &Dropped::default()),
             [
                 "controller 5: no answer",
                 "controller 7: reply lost, state unknown"
@@ -768,7 +809,41 @@ mod tests {
             ),
             (0, vec![(id::REGMASTER_EXCEPTIONDATA, 0)]),
         ]);
-        assert!(raised(&boot).is_empty());
+        assert!(raised(&boot, &Dropped::default()).is_empty());
+        // The same boot state after the session saw controller 1 out of it: a reboot.
+        let pc = Pc::new();
+        let mut dropped = Dropped::default();
+        dropped.note(
+            &Snapshot::new(vec![(
+                1,
+                vec![(id::REG_STATUS, 8), (id::REG_EXCEPTIONDATA, 0x0502)],
+            )]),
+            &pc,
+        );
+        dropped.note(&boot, &pc);
+        assert_eq!(
+            raised(&boot, &dropped),
+            ["controller 1: rebooted: back in its boot state, its demands and calibration gone"]
+        );
+        // A fault spread to the others: they share one entry, after the board that raised it.
+        let mut rows = vec![(
+            4,
+            vec![(id::REG_STATUS, 9), (id::REG_EXCEPTIONDATA, 0x0008)],
+        )];
+        rows.extend([1, 2, 3].map(|d| {
+            (
+                d,
+                vec![(id::REG_STATUS, 9), (id::REG_EXCEPTIONDATA, 0x0503)],
+            )
+        }));
+        assert_eq!(
+            raised(&Snapshot::new(rows), &Dropped::default()),
+            [
+                "controller 4: short (overcurrent at low duty), motor 0 (wheel 3's drive)",
+                "controllers 1, 2, 3: remote (EXCEPTIONDATA written: another board's fault \
+                 spread by the master, or a PC), the whole board"
+            ]
+        );
     }
 
     #[test]

@@ -12,8 +12,9 @@
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
 //! `updates`, `rate`, `wheels` with required (null: none sent this session), actual,
-//! calibrated and `exception` per motor (the one holding it, taken apart: type, name,
-//! motor, wheel, text; null: none) and the wheel's exceptions in words (null: none),
+//! calibrated and `exception` per motor (its board's, taken apart: type, name, the motor
+//! it names and that motor's wheel, text; null: none; a board in exception stops both its
+//! motors) and the wheel's exceptions in words (null: none),
 //! `master_exception` (the raw value; null when its reply was lost), `no_answer` (the
 //! controllers that did not answer), `reply_lost` (the devices whose reply the serial line
 //! lost; each is read again next update), `master` (the text view's master line),
@@ -34,7 +35,7 @@ use shared::regs::{id, Register};
 
 use super::fresh;
 use super::live::{
-    actual, master_json, master_line, motor_exception, raised, view_lines, wheel_exceptions,
+    actual, master_json, master_line, raised, slave_exception, view_lines, wheel_exceptions,
     Dropped, Poller, Snapshot, NOT_DEGREES,
 };
 use super::pc::{self, Motor, Op, Pairs, Pc};
@@ -210,12 +211,16 @@ fn ended_in_exception<P: Port>(
     let Some(last) = session.last else {
         return Ok(());
     };
-    let end = if session.sent_since_last {
-        poller.update(link)?
-    } else {
-        last
+    let mut dropped = session.dropped;
+    let end = match plan.lines.last() {
+        Some(line) if session.sent_since_last => {
+            let end = poller.update(link)?;
+            dropped.note(&end, &line.pc);
+            end
+        }
+        _ => last,
     };
-    let faults = raised(&end);
+    let faults = raised(&end, &dropped);
     if faults.is_empty() {
         Ok(())
     } else {
@@ -437,8 +442,9 @@ fn view_json(
             } else {
                 required
             };
-            // The exception that holds the motor, taken apart (null: none).
-            match motor_exception(s, wheel, m) {
+            // The exception its board is in, taken apart (null: none): a board in
+            // exception stops both its motors, whichever one the exception names.
+            match slave_exception(s, pc::device_of(wheel, m)) {
                 Some(e) => required.raw("exception", &e.json()),
                 None => required.raw("exception", "null"),
             }
@@ -925,6 +931,21 @@ mod tests {
             "{:?}",
             ran.result
         );
+        // Controller 4 seen running, then back in its boot state: it rebooted.
+        let mut running = update_replies();
+        running[3][4..6].copy_from_slice(&[0x08, 0x00]);
+        let mut rebooted = update_replies();
+        rebooted[3][4..8].copy_from_slice(&[0x09, 0x00, 0x02, 0x05]);
+        let mut replies = configure_replies();
+        replies.extend(running);
+        replies.extend(rebooted);
+        let ran = run_script("wait 0.01\n", &replies, false);
+        assert!(
+            matches!(&ran.result, Err(HostError::EndedInException { faults: f, .. })
+                if f == &["controller 4: rebooted: back in its boot state, its demands and calibration gone"]),
+            "{:?}",
+            ran.result
+        );
         // A script that never looked at the rover is not judged.
         let mut replies = configure_replies();
         replies.push(vec![0]);
@@ -993,7 +1014,9 @@ mod tests {
             ended.to_string(),
             "t.rover ran to its end with the rover stopped: controller 4: no answer. A board \
              in exception stops its motors until a `reset` line in the script clears it, \
-             which holds once the cause is gone (docs/safety.md lists each exception's causes)"
+             which holds once the cause is gone (docs/safety.md lists each exception's \
+             causes); a controller that does not answer is off the bus or unpowered; a \
+             rebooted one needs `calibrate` again"
         );
         let text = ran.text;
         assert!(

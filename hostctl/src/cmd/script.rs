@@ -26,8 +26,9 @@
 
 use std::time::Duration;
 
+use shared::mapping;
 use shared::protocol::READ_SET_SIZE;
-use shared::regs::{id, Register};
+use shared::regs::{id, BoardKind, Register};
 
 use super::pc::{self, Motor, Op, Pairs, Pc, WHEELS};
 use super::write;
@@ -215,22 +216,35 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
 /// The manual's "about the highest safe speed" (reference §13), ticks/s.
 pub const SAFE_SPEED: f32 = 2500.0;
 
-/// A `drive` line asking for more than [`SAFE_SPEED`] either way: the library allows
-/// ±4000, so it is sent, but the manual warns against it.
+/// A line sending a drive speed beyond [`SAFE_SPEED`] either way (a `drive` line, or a
+/// `write` of DRIVE_REQSPEED): the library allows ±4000, so it is sent, but the manual
+/// warns against it.
 fn speed_notes(lines: &[Line]) -> Vec<String> {
+    let reqspeed = BoardKind::DriveSteer.register(id::REGDS_DRIVE_REQSPEED);
     lines
         .iter()
-        .filter(|l| command_word(&l.text) == "drive")
         .filter_map(|l| {
-            // `drive W|all SPEED`, checked when the line was parsed.
-            let speed = l.text.split_whitespace().nth(2)?.parse::<f32>().ok()?;
-            (speed.abs() > SAFE_SPEED).then(|| {
-                format!(
-                    "line {} drives at {speed} ticks/s, beyond the ±{SAFE_SPEED} the manual \
-                     calls about the highest safe speed; it is sent (the library allows ±4000)",
-                    l.number
-                )
-            })
+            let reg = reqspeed?;
+            let fastest = l
+                .actions
+                .iter()
+                .filter_map(|a| match a {
+                    // A one-register write: length, address, count 1, id, value LSB, MSB.
+                    Action::Op(Op::Write(send)) => match send.frame.as_slice() {
+                        [_, _, 1, r, lo, hi] if *r == reg.id && send.device != 0 => {
+                            Some(mapping::unmap(u16::from_le_bytes([*lo, *hi]), reg))
+                        }
+                        _ => None,
+                    },
+                    _ => None,
+                })
+                .filter(|v| v.abs() > SAFE_SPEED)
+                .max_by(|a, b| a.abs().total_cmp(&b.abs()))?;
+            Some(format!(
+                "line {} drives at {fastest:.0} ticks/s, beyond the ±{SAFE_SPEED} the manual \
+                 calls about the highest safe speed; it is sent (the library allows ±4000)",
+                l.number
+            ))
         })
         .collect()
 }
@@ -813,5 +827,13 @@ mod tests {
             ]
         );
         assert_eq!(frames(&lines[2..3]).len(), 6, "sent to all six wheels");
+        // A register write of the same demand, on a DS board: noted too.
+        let lines = parse(
+            "s",
+            "write 4 drive_reqspeed 3500\nwrite 4 drive_reqspeed 2000",
+        )
+        .unwrap();
+        assert_eq!(notes(&lines).len(), 1);
+        assert!(notes(&lines)[0].starts_with("line 1 drives at 3500 ticks/s"));
     }
 }

@@ -174,19 +174,27 @@ fn devices(text: &str) -> Result<Vec<Target>, HostError> {
     Ok(targets)
 }
 
-/// Refuses reads whose registers are other ids than `first`'s: the set is configured once,
-/// with `first`'s ids, and each device reads those ids on its own table.
-fn same_ids(first: &SetRead, reads: &[SetRead]) -> Result<(), HostError> {
-    let ids = |read: &SetRead| read.regs.iter().map(|r| r.id).collect::<Vec<u8>>();
-    match reads.iter().find(|read| ids(read) != ids(first)) {
+/// Refuses reads whose registers are not `first`'s: the set is configured once, with
+/// `first`'s ids, and each device reads those ids on its own table, where the same name
+/// may be another id (EXCEPTIONDATA) and the same id another register (id 9 on a DS and an
+/// LL board).
+fn same_registers(first: &SetRead, reads: &[SetRead]) -> Result<(), HostError> {
+    let names = |read: &SetRead| {
+        read.regs
+            .iter()
+            .map(|r| format!("{} ({})", r.name, r.id))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match reads.iter().find(|read| read.regs != first.regs) {
         None => Ok(()),
-        Some(other) => Err(HostError::MixedSetIds {
+        Some(other) => Err(HostError::MixedSet {
             first: first.target.device,
             first_board: first.target.board(),
-            first_ids: format!("{:?}", ids(first)),
+            first_regs: names(first),
             other: other.target.device,
             other_board: other.target.board(),
-            other_ids: format!("{:?}", ids(other)),
+            other_regs: names(other),
         }),
     }
 }
@@ -243,7 +251,7 @@ pub fn plan(args: &Args) -> Result<Plan, HostError> {
         reads.push(SetRead::new(target, set, regs)?);
     }
     let first = reads.first().ok_or(HostError::NoStandardSet { set })?;
-    same_ids(first, &reads)?;
+    same_registers(first, &reads)?;
     let set_frame = super::set_frame(first.target, set, &first.regs)?;
     let temps_read = temps_read_of(set, &reads)?;
     Ok(Plan {
@@ -445,6 +453,10 @@ pub fn table_lines(round: &Round) -> Vec<String> {
                 continue;
             }
         };
+        let in_exception = row.target.device != 0
+            && row.regs.iter().zip(raws).any(|(reg, raw)| {
+                reg.id == id::REG_STATUS && raw & crate::meaning::STATUS_EXCEPTION != 0
+            });
         cells.extend(row.regs.iter().zip(raws).map(|(&reg, &raw)| {
             if row.is_reading(reg) == Some(false) {
                 unread = true;
@@ -455,6 +467,9 @@ pub fn table_lines(round: &Round) -> Vec<String> {
                 format!("{}*", resolve::show(reg, raw))
             } else {
                 if let Some(m) = Meaning::of(row.target.device, reg, raw) {
+                    // EXCEPTIONDATA beside a STATUS with its bit 0 set is the exception
+                    // the board is in now.
+                    let m = if in_exception { m.held() } else { m };
                     coded.add(reg, raw, m.words(), row.target.device);
                 }
                 resolve::show(reg, raw)
@@ -464,7 +479,12 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     }
     let mut lines = vec![format!("read set {}, round {}", round.set, round.number)];
     lines.extend(table.lines());
-    lines.extend(coded.lines(round.rows.len()));
+    let columns: Vec<&Register> = round
+        .rows
+        .first()
+        .map(|row| row.regs.clone())
+        .unwrap_or_default();
+    lines.extend(coded.lines(round.rows.len(), &columns));
     if boot_scale {
         lines.push(
             "* not degrees: opening the port rebooted the rover, so the boards are on their \
@@ -491,36 +511,44 @@ pub fn table_lines(round: &Round) -> Vec<String> {
     lines
 }
 
-/// The coded values of a round in words ([`Meaning`]), one line per register and value,
-/// naming the devices that hold it when the table has more than one row.
+/// The coded values of a round in words ([`Meaning`]), one line per register and value
+/// (the value also in hex, as the layouts are given), naming the devices that hold it when
+/// the table has more than one row; grouped by register, in the table's column order.
 #[derive(Default)]
 struct Legend {
     /// (register, raw, words, devices), in the order first met.
-    entries: Vec<(&'static str, u16, String, Vec<u8>)>,
+    entries: Vec<(&'static Register, u16, String, Vec<u8>)>,
 }
 
 impl Legend {
-    fn add(&mut self, reg: &Register, raw: u16, words: String, device: u8) {
-        let name = reg.short_name();
+    fn add(&mut self, reg: &'static Register, raw: u16, words: String, device: u8) {
         match self
             .entries
             .iter_mut()
-            .find(|(n, r, w, _)| *n == name && *r == raw && *w == words)
+            .find(|(g, r, w, _)| *g == reg && *r == raw && *w == words)
         {
             Some((_, _, _, devices)) => devices.push(device),
-            None => self.entries.push((name, raw, words, vec![device])),
+            None => self.entries.push((reg, raw, words, vec![device])),
         }
     }
 
-    fn lines(&self, rows: usize) -> Vec<String> {
-        self.entries
-            .iter()
-            .map(|(name, raw, words, devices)| {
+    fn lines(&self, rows: usize, columns: &[&Register]) -> Vec<String> {
+        let column = |reg: &Register| columns.iter().position(|c| *c == reg);
+        let mut entries: Vec<_> = self.entries.iter().collect();
+        entries.sort_by_key(|(reg, ..)| column(reg));
+        entries
+            .into_iter()
+            .map(|(reg, raw, words, devices)| {
+                let value = format!(
+                    "{} {raw} = 0x{raw:0width$x}",
+                    reg.short_name(),
+                    width = usize::from(reg.size) * 2
+                );
                 if rows > 1 {
                     let list: Vec<String> = devices.iter().map(u8::to_string).collect();
-                    format!("{name} {raw} (dev {}): {words}", list.join(", "))
+                    format!("{value} (dev {}): {words}", list.join(", "))
                 } else {
-                    format!("{name} {raw}: {words}")
+                    format!("{value}: {words}")
                 }
             })
             .collect()
