@@ -100,7 +100,7 @@ impl Meaning {
             Meaning::Status(bits) => status_words(bits),
             Meaning::LastError(0) => "no PC-link error since boot".to_owned(),
             Meaning::LastError(code) => match LinkError::from_code(code) {
-                Some(e) => format!("{e:?}: {}", e.describe()),
+                Some(e) => format!("{}: {}", e.name(), e.describe()),
                 None => format!("code {code}, which this master does not send"),
             },
             Meaning::SensorsRead(bits) => sensors_words(bits),
@@ -131,7 +131,7 @@ impl Meaning {
             Meaning::LastError(code) => {
                 let object = object.int("code", code);
                 match LinkError::from_code(code) {
-                    Some(e) => object.str("name", &format!("{e:?}")),
+                    Some(e) => object.str("name", e.name()),
                     None => object.raw("name", "null"),
                 }
             }
@@ -326,7 +326,12 @@ mod tests {
             e.json(),
             r#"{"code":12,"name":"NoAnswer","text":"NoAnswer: a slave did not answer on the I2C bus"}"#
         );
-        // Every code the master sends has its name (docs/protocol.md's table).
+        // Every code has the name docs/protocol.md's table gives it.
+        let doc = include_str!("../../docs/protocol.md");
+        for e in LinkError::ALL {
+            let row = format!("| {} | {} |", e.code(), e.name());
+            assert!(doc.contains(&row), "protocol.md has no row `{row}`");
+        }
         for code in 1..=14 {
             let text = words(BoardKind::Master, "LASTERROR", 0, code);
             assert!(!text.contains("does not send"), "{code}: {text}");

@@ -96,6 +96,26 @@ impl LinkError {
         }
     }
 
+    /// The error's name, as docs/protocol.md's table gives it (what a program matches on).
+    pub const fn name(self) -> &'static str {
+        match self {
+            LinkError::BadLength => "BadLength",
+            LinkError::BadDevice => "BadDevice",
+            LinkError::UnknownCommand => "UnknownCommand",
+            LinkError::UnknownRegister => "UnknownRegister",
+            LinkError::LengthMismatch => "LengthMismatch",
+            LinkError::BadReadSet => "BadReadSet",
+            LinkError::ReadSetTooLarge => "ReadSetTooLarge",
+            LinkError::Truncated => "Truncated",
+            LinkError::ReadOnly => "ReadOnly",
+            LinkError::MissingRegister => "MissingRegister",
+            LinkError::EmptyReadSet => "EmptyReadSet",
+            LinkError::NoAnswer => "NoAnswer",
+            LinkError::Framing => "Framing",
+            LinkError::Overrun => "Overrun",
+        }
+    }
+
     /// Words for people.
     pub const fn describe(self) -> &'static str {
         if let Some(e) = self.frame() {
