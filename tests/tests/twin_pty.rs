@@ -365,31 +365,31 @@ fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
     twin.finish();
 }
 
-#[test]
-fn hostctl_s_advice_for_a_silent_controller_names_the_twin_it_is_talking_to() {
+/// Runs hostctl with `args` against `twin`'s port, as the binary would (text unless the
+/// args say `--json`, no terminal); returns its result and what it printed.
+fn hostctl_on(twin: &Linked, args: &[&str]) -> (Result<(), hostctl::HostError>, String) {
     use clap::Parser;
-    let twin = Linked::start("twin-pty-advice");
-    twin::control::send(&twin.control, "cut 4").expect("the twin cuts controller 4 off");
-    let cli = hostctl::Cli::try_parse_from([
-        "hostctl",
-        "--port",
-        &twin.port,
-        "write",
-        "4",
-        "drive_reqspeed",
-        "0",
-    ])
-    .unwrap();
+    let line = ["hostctl", "--port", twin.port.as_str()]
+        .into_iter()
+        .chain(args.iter().copied());
+    let cli = hostctl::Cli::try_parse_from(line).expect("a valid command line");
     let style = hostctl::Style {
-        json: false,
+        json: cli.json,
         in_place: false,
         width: || None,
     };
     let mut out = Vec::new();
     let open = |p: &str| hostctl::link::open_serial(p, Duration::ZERO);
-    let err = hostctl::run(&cli, None, open, style, &mut out)
-        .expect_err("controller 4 is off the bus")
-        .to_string();
+    let result = hostctl::run(&cli, None, open, style, &mut out);
+    (result, String::from_utf8_lossy(&out).into_owned())
+}
+
+#[test]
+fn hostctl_s_advice_for_a_silent_controller_names_the_twin_it_is_talking_to() {
+    let twin = Linked::start("twin-pty-advice");
+    twin::control::send(&twin.control, "cut 4").expect("the twin cuts controller 4 off");
+    let (result, _) = hostctl_on(&twin, &["write", "4", "drive_reqspeed", "0"]);
+    let err = result.expect_err("controller 4 is off the bus").to_string();
     // The twin is not at the default link, so the advice says which twin to restore it on.
     let advice = format!(
         "(on the twin: `twin inject --link {} restore 4`)",
@@ -541,7 +541,6 @@ fn a_python_program_written_from_the_reference_drives_the_twin() {
 
 #[test]
 fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
-    use clap::Parser;
     let twin = Linked::start("twin-pty-faulted-run");
     // 8 A on wheel 3's drive sense (controller 4, motor 0) for the whole run: once the
     // script's `reset` takes the board out of its boot state, it raises SHORTOC (a current
@@ -551,24 +550,8 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     std::fs::create_dir_all(&dir).unwrap();
     let script = dir.join("faulted.rover");
     std::fs::write(&script, "calibrate\nreset\nwait 5\n").unwrap();
-    let cli = hostctl::Cli::try_parse_from([
-        "hostctl",
-        "--port",
-        &twin.port,
-        "--json",
-        "run",
-        &script.display().to_string(),
-    ])
-    .unwrap();
-    let style = hostctl::Style {
-        json: true,
-        in_place: false,
-        width: || None,
-    };
-    let mut out = Vec::new();
-    let open = |p: &str| hostctl::link::open_serial(p, Duration::ZERO);
-    let err = hostctl::run(&cli, None, open, style, &mut out).expect_err("the rover ends stopped");
-    let text = String::from_utf8(out).unwrap();
+    let (result, text) = hostctl_on(&twin, &["--json", "run", &script.display().to_string()]);
+    let err = result.expect_err("the rover ends stopped");
     let short = "short (overcurrent at low duty)";
     match &err {
         hostctl::HostError::EndedInException { faults, .. } => assert_eq!(
