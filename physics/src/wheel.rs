@@ -174,6 +174,16 @@ impl SlaveBoardModel {
         }
     }
 
+    /// One motor's bridge input, as last read from the chip's pins.
+    pub fn bridge(&self, motor: Motor) -> Bridge {
+        match (self, motor) {
+            (SlaveBoardModel::Ds(b), Motor::M1) => b.drive.bridge(),
+            (SlaveBoardModel::Ds(b), Motor::M2) => b.steer.motor.bridge(),
+            (SlaveBoardModel::Ll(b), Motor::M1) => b.one.motor.bridge(),
+            (SlaveBoardModel::Ll(b), Motor::M2) => b.two.motor.bridge(),
+        }
+    }
+
     /// One motor's current (A, signed).
     pub fn current_a(&self, motor: Motor) -> f64 {
         match (self, motor) {

@@ -5,7 +5,8 @@
 //! shows its boot state, its positions off calibration; a current spike raises a short; an
 //! unplugged temperature sensor raises type 10; the RC receiver takes over the drives, also
 //! with the transmitter on from power-up; a PC
-//! program that armed the PC-silence failsafe and then hangs gets every motor stopped.
+//! program that armed the PC-silence failsafe and then hangs gets every motor stopped; the
+//! status shows each board's LEDs and bridges as the bench would, and what is injected.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -515,4 +516,85 @@ fn the_status_lists_running_spikes_and_what_each_sensor_measures() {
         status_line(&mut r, "current spikes"),
         "current spikes: none"
     );
+    // Serial losses pending show, and a clear cancels them.
+    apply(&mut r, "drop-serial 5");
+    apply(&mut r, "drop-serial 2 to-host");
+    assert_eq!(
+        status_line(&mut r, "serial bytes lost"),
+        "serial bytes lost: 0 to master, 0 to host (5 and 2 pending)"
+    );
+    assert_eq!(
+        apply(&mut r, "drop-serial clear"),
+        "serial losses cancelled: 5 bytes to-master and 2 to-host will now arrive"
+    );
+    assert_eq!(
+        status_line(&mut r, "serial bytes lost"),
+        "serial bytes lost: 0 to master, 0 to host (0 and 0 pending)"
+    );
+    assert_eq!(
+        apply(&mut r, "drop-serial clear"),
+        "no serial byte loss was pending; nothing changed"
+    );
+}
+
+/// How long LED `led` (1 or 2) of the status line `line` has been lit, in s; None if off.
+fn lit_for_s(line: &str, led: u8) -> Option<f64> {
+    let (_, rest) = line.split_once(&format!("LED{led} on "))?;
+    rest.split(' ').next()?.parse().ok()
+}
+
+#[test]
+fn the_status_shows_each_board_as_the_bench_would() {
+    let mut s = watched_while_driving();
+    let boards = |s: &Session| -> Vec<String> {
+        let status = twin::command::Command::Status
+            .apply(&mut s.twin.borrow_mut())
+            .unwrap();
+        (1..=9)
+            .map(|n| {
+                status
+                    .lines()
+                    .find(|l| l.starts_with(&format!("controller {n} (")))
+                    .unwrap_or_else(|| panic!("no line for controller {n}:\n{status}"))
+                    .to_owned()
+            })
+            .collect()
+    };
+    // Driving: each drive board's bridge runs its drive forward, and no LED is held lit
+    // (a ping or the heartbeat flashes one for a moment at most).
+    let before = boards(&s);
+    for (n, line) in (1..=9).zip(&before) {
+        assert!(
+            [1, 2]
+                .iter()
+                .all(|&led| lit_for_s(line, led).is_none_or(|t| t < 0.5)),
+            "{line}"
+        );
+        if n % 3 != 0 {
+            let wheel = 2 * ((n - 1) / 3) + n % 3;
+            let drive = format!("wheel {wheel} drive forward ");
+            assert!(line.contains(&drive), "{line}");
+        }
+    }
+    // An 8 A spike on wheel 2's drive: controller 2 latches LED1 (its motor 0); the eight
+    // boards the master spreads the stop to light both (an exception of no motor); every
+    // bridge is off.
+    s.twin
+        .borrow_mut()
+        .spike(2, Axis::Drive, 8.0, 30.0)
+        .unwrap();
+    s.pass(3.0);
+    let after = boards(&s);
+    println!("{}", after.join("\n"));
+    for (n, line) in (1..=9).zip(&after) {
+        let held = |led| lit_for_s(line, led).is_some_and(|t| t >= 1.5);
+        if n == 2 {
+            assert!(held(1) && !held(2), "{line}");
+        } else {
+            assert!(held(1) && held(2), "{line}");
+        }
+        let motors = line.split_once("; ").map_or("", |(_, m)| m);
+        let off: Vec<bool> = motors.split(", ").map(|m| m.ends_with(" off")).collect();
+        assert_eq!(off, [true, true], "{line}");
+    }
 }

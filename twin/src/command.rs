@@ -10,9 +10,10 @@
 //! | `sensor I remove\|restore` | Unplug temperature sensor I (0 ambient, 1..9) / plug it back |
 //! | `temp I CELSIUS` | Set what sensor I measures (0.5 °C steps) |
 //! | `drop-serial N [to-master\|to-host]` | Lose the next N bytes on the serial line (to the master if not named) |
+//! | `drop-serial clear` | Cancel the losses still pending, both ways |
 //! | `rc on\|off` | Start / stop the RC receiver's pulses |
 //! | `rc CH US` | Set RC channel CH's pulse width (µs, 500..2500) |
-//! | `status` | Emulated time, speed, faults and every wheel's physical state |
+//! | `status` | Emulated time, speed, faults, every wheel's physical state, every board's LEDs and bridges |
 //! | `time` | Emulated time since power-up, µs (`hostctl` waits in it for the slaves to boot) |
 
 use crate::serial::Direction;
@@ -69,6 +70,8 @@ pub enum Command {
         /// Which way.
         direction: Direction,
     },
+    /// Cancel the serial losses still pending.
+    ClearSerialDrops,
     /// Turn the RC receiver on or off.
     Rc(bool),
     /// Set one RC channel's width.
@@ -122,7 +125,7 @@ pub enum CommandError {
 /// The list of commands, for error messages.
 pub const HELP: &str = "commands: stall W [drive|steer|lift] on|off, cut N, restore N, \
 reboot N, spike W drive|steer|lift AMPS MS, sensor I remove|restore, temp I CELSIUS, \
-drop-serial N [to-master|to-host], rc on|off, rc CH US, status, time";
+drop-serial N [to-master|to-host], drop-serial clear, rc on|off, rc CH US, status, time";
 
 const STALL: &str = "stall W [drive|steer|lift] on|off   (W = wheel 1..6)";
 const CUT: &str = "cut N   (N = controller 1..9)";
@@ -131,7 +134,7 @@ const REBOOT: &str = "reboot N   (N = controller 1..9)";
 const SPIKE: &str = "spike W drive|steer|lift AMPS MS   (0 < AMPS <= 10.24, 0 < MS <= 60000)";
 const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
 const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9; -55 <= CELSIUS <= 125)";
-const DROP: &str = "drop-serial N [to-master|to-host]";
+const DROP: &str = "drop-serial N [to-master|to-host], or drop-serial clear";
 const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode; US = 500..2500)";
 
 fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
@@ -294,6 +297,7 @@ impl Command {
                 })
             }
             ("temp", _) => Err(CommandError::Usage(TEMP)),
+            ("drop-serial", ["clear"]) => Ok(Command::ClearSerialDrops),
             ("drop-serial", [n]) => Ok(Command::DropSerial {
                 n: byte_count(n)?,
                 direction: Direction::ToMaster,
@@ -391,6 +395,13 @@ impl Command {
                     direction.name()
                 )
             }
+            Command::ClearSerialDrops => match rover.clear_serial_drops() {
+                (0, 0) => "no serial byte loss was pending; nothing changed".to_owned(),
+                (to_master, to_host) => format!(
+                    "serial losses cancelled: {to_master} bytes to-master and {to_host} \
+                     to-host will now arrive"
+                ),
+            },
             Command::Rc(on) => {
                 rover.set_rc(on);
                 format!("RC receiver {}", if on { "on" } else { "off" })
@@ -469,6 +480,7 @@ mod tests {
                 direction: Direction::ToHost
             })
         );
+        assert_eq!(p("drop-serial clear"), Ok(Command::ClearSerialDrops));
         assert_eq!(p("rc on"), Ok(Command::Rc(true)));
         assert_eq!(
             p("rc 1 1200"),

@@ -67,6 +67,11 @@ impl Rover {
         self.serial.drop_next(direction, n);
     }
 
+    /// Cancels the serial losses still pending; returns them (to the master, to the host).
+    pub fn clear_serial_drops(&mut self) -> (u64, u64) {
+        self.serial.clear_pending()
+    }
+
     /// Takes temperature sensor `index` (0 ambient, n for controller n) off the OneWire line
     /// (`present` false), as an unplugged sensor, or puts it back.
     pub fn set_sensor_present(&mut self, index: u8, present: bool) -> Result<(), TwinError> {

@@ -21,6 +21,7 @@ mod config;
 pub mod control;
 mod error;
 mod faults;
+pub mod leds;
 pub mod paths;
 mod rover;
 pub mod serial;

@@ -76,8 +76,8 @@ struct RunArgs {
 enum Sub {
     /// Send one command to a running twin and print its reply. Commands: stall W
     /// [drive|steer|lift] on|off, cut N, restore N, reboot N, spike W drive|steer|lift AMPS
-    /// MS, sensor I remove|restore, temp I CELSIUS, drop-serial N [to-master|to-host], rc
-    /// on|off, rc CH US, status, time.
+    /// MS, sensor I remove|restore, temp I CELSIUS, drop-serial N [to-master|to-host],
+    /// drop-serial clear, rc on|off, rc CH US, status, time.
     Inject {
         /// The running twin's pty link [default: the one hostctl uses].
         #[arg(long, value_name = "PATH")]

@@ -9,9 +9,11 @@ use harness::bus::Bus;
 use harness::onewire::OneWireBus;
 use harness::rc::RcReceiver;
 use harness::Avr;
+use physics::bridge::Bridge;
 use physics::emulator::Plant;
-use physics::wheel::SlaveBoardModel;
+use physics::wheel::{Motor, SlaveBoardModel};
 
+use crate::leds::{Led, LedWatch};
 use crate::serial::{Direction, SerialLine};
 use crate::speed::{thread_cpu, RunStart};
 use crate::wiring::{self, Axis, MASTER_CHIP};
@@ -55,6 +57,7 @@ pub struct Rover {
     pub(crate) stalled: BTreeSet<(u8, Axis)>,
     names: Vec<String>,
     speed: Speed,
+    leds: LedWatch,
 }
 
 impl Rover {
@@ -103,6 +106,7 @@ impl Rover {
             stalled: BTreeSet::new(),
             names,
             speed: Speed::default(),
+            leds: LedWatch::default(),
         })
     }
 
@@ -125,7 +129,13 @@ impl Rover {
     /// Runs every chip and the physics for `us` µs of emulated time.
     pub fn run_us(&mut self, us: u64) -> Result<(), TwinError> {
         let start = self.run_start();
-        self.plant.run_us(&mut self.bus, us)?;
+        let Rover {
+            bus, plant, leds, ..
+        } = self;
+        plant.run_until(bus, us, |bus| {
+            sample_leds(leds, bus);
+            false
+        })?;
         self.account(start);
         self.check_halted()
     }
@@ -266,9 +276,11 @@ impl Rover {
             plant,
             serial,
             from_master,
+            leds,
             ..
         } = self;
         let found = plant.run_until(bus, max_us, |bus| {
+            sample_leds(leds, bus);
             collect(bus, serial, from_master);
             done(from_master)
         })?;
@@ -299,8 +311,8 @@ impl Rover {
         let (ll, lift) = board(Axis::Lift)?;
         let ll = ll.ll().ok_or(TwinError::NoSuchWheel(wheel))?;
         let lift_axis = match lift.motor {
-            physics::wheel::Motor::M1 => &ll.one,
-            physics::wheel::Motor::M2 => &ll.two,
+            Motor::M1 => &ll.one,
+            Motor::M2 => &ll.two,
         };
         Ok(WheelState {
             wheel,
@@ -308,6 +320,21 @@ impl Rover {
             steer_deg: ds.steer.motor.angle_deg(),
             lift_deg: lift_axis.motor.angle_deg(),
         })
+    }
+
+    /// Chip `chip`'s two LEDs as sampled after the last run: LED1 and LED2 on a controller,
+    /// the blue and status LEDs on the master (chip 0). None before the first run.
+    pub fn leds(&self, chip: usize) -> Option<[Led; 2]> {
+        self.leds.chip(chip)
+    }
+
+    /// Controller `n`'s bridge inputs (motor 0, motor 1) as the physics last read them from
+    /// its pins. None for a controller outside 1..=9.
+    pub fn bridges(&self, n: u8) -> Option<[Bridge; 2]> {
+        let model = self.plant.model(usize::from(n))?;
+        wiring::CONTROLLERS
+            .contains(&n)
+            .then(|| [Motor::M1, Motor::M2].map(|m| model.bridge(m)))
     }
 
     /// The bus, for tests that look at chips directly (chip 0 = master, n = controller n).
@@ -331,6 +358,21 @@ impl Rover {
     pub fn chip_name(&self, chip: usize) -> Option<&str> {
         self.names.get(chip).map(String::as_str)
     }
+}
+
+/// Records every chip's LED levels now (each physics slice, so a level's age is right to
+/// 50 µs).
+fn sample_leds(leds: &mut LedWatch, bus: &Bus) {
+    let levels = (0..bus.chip_count()).map(|chip| {
+        let pins = if chip == MASTER_CHIP {
+            wiring::MASTER_LEDS
+        } else {
+            wiring::SLAVE_LEDS
+        };
+        bus.chip(chip)
+            .map_or([false; 2], |avr| pins.map(|pin| avr.pin(pin)))
+    });
+    leds.sample(levels, bus.micros());
 }
 
 /// The twin's serial port as a pty sees it: the master's UART behind the faulty line.

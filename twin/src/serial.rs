@@ -58,6 +58,15 @@ impl SerialLine {
         *pending = pending.saturating_add(n);
     }
 
+    /// Cancels every loss still pending, both ways; returns what was pending (to the master,
+    /// to the host). Losses already done stay counted.
+    pub fn clear_pending(&mut self) -> (u64, u64) {
+        let was = (self.pending_to_master, self.pending_to_host);
+        self.pending_to_master = 0;
+        self.pending_to_host = 0;
+        was
+    }
+
     /// Bytes still to be lost travelling `direction`.
     pub fn pending(&self, direction: Direction) -> u64 {
         match direction {
@@ -104,6 +113,19 @@ mod tests {
         assert_eq!(line.pass(Direction::ToMaster, b"s"), b"s");
         assert_eq!(line.dropped(Direction::ToMaster), 3);
         assert_eq!(line.dropped(Direction::ToHost), 0);
+    }
+
+    #[test]
+    fn a_clear_cancels_what_is_pending_and_keeps_what_was_lost() {
+        let mut line = SerialLine::new();
+        line.drop_next(Direction::ToMaster, 4);
+        line.drop_next(Direction::ToHost, 2);
+        assert_eq!(line.pass(Direction::ToMaster, b"a"), b"");
+        assert_eq!(line.clear_pending(), (3, 2));
+        assert_eq!(line.pass(Direction::ToMaster, b"bc"), b"bc");
+        assert_eq!(line.pass(Direction::ToHost, b"d"), b"d");
+        assert_eq!(line.dropped(Direction::ToMaster), 1);
+        assert_eq!(line.clear_pending(), (0, 0), "nothing left to cancel");
     }
 
     #[test]

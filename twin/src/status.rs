@@ -1,13 +1,19 @@
 //! The twin's state in words, for `twin inject status`: emulated time and speed, the
-//! faults in force, and every wheel as the physics has it.
+//! faults in force, every wheel as the physics has it, and every board as one would see it
+//! on the bench: its LEDs and what its bridges do with its motors.
 
 use std::fmt::Write as _;
 
+use physics::bridge::{Bridge, BridgeMode};
+use physics::wheel::Motor;
+
+use crate::leds::describe;
 use crate::serial::Direction;
-use crate::wiring::WHEELS;
+use crate::wiring::{self, CONTROLLERS, MASTER_CHIP, WHEELS};
 use crate::Rover;
 
-/// The twin's state in a few lines: time, speed, faults, and each wheel as the physics has it.
+/// The twin's state in a few lines: time, speed, faults, each wheel as the physics has it,
+/// and each board's LEDs and bridges.
 pub fn status(rover: &mut Rover) -> String {
     let mut out = String::new();
     let speed = rover.speed();
@@ -90,5 +96,79 @@ pub fn status(rover: &mut Rover) -> String {
             );
         }
     }
+    boards(rover, &mut out);
     out
+}
+
+/// The boards' lines: each LED with how long it has held its level (a latched exception
+/// stays lit; a ping flashes LED1 on a drive board, LED2 on a lift board, for 50 ms each
+/// second), and each motor's bridge.
+fn boards(rover: &Rover, out: &mut String) {
+    let now = rover.micros();
+    if let Some([blue, status]) = rover.leds(MASTER_CHIP) {
+        let _ = write!(
+            out,
+            "\nmaster LEDs: blue {}, status {}",
+            describe(blue, now),
+            describe(status, now)
+        );
+    }
+    for n in CONTROLLERS {
+        let _ = write!(out, "\ncontroller {n} ({}):", wiring::image_of(n));
+        if let Some([led1, led2]) = rover.leds(usize::from(n)) {
+            let _ = write!(
+                out,
+                " LED1 {}, LED2 {};",
+                describe(led1, now),
+                describe(led2, now)
+            );
+        }
+        if let Some(bridges) = rover.bridges(n) {
+            let motors: Vec<String> = [Motor::M1, Motor::M2]
+                .into_iter()
+                .zip(bridges)
+                .filter_map(|(slot, bridge)| {
+                    let (wheel, axis) = wiring::wheel_of(n, slot)?;
+                    Some(format!(
+                        "wheel {wheel} {} {}",
+                        axis.name(),
+                        bridge_words(bridge)
+                    ))
+                })
+                .collect();
+            let _ = write!(out, " {}", motors.join(", "));
+        }
+    }
+}
+
+/// A bridge in words: `off` (the motor coasts), `forward 42 %`, `reverse 3 %`, `braking 100 %`.
+fn bridge_words(bridge: Bridge) -> String {
+    let percent = (bridge.duty() * 100.0).round();
+    match bridge.mode() {
+        BridgeMode::Off => "off".to_owned(),
+        BridgeMode::Forward => format!("forward {percent} %"),
+        BridgeMode::Reverse => format!("reverse {percent} %"),
+        BridgeMode::Brake => format!("braking {percent} %"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bridge_reads_as_what_it_does_with_its_motor() {
+        assert_eq!(bridge_words(Bridge::off()), "off");
+        assert_eq!(bridge_words(Bridge::forward(0.424)), "forward 42 %");
+        assert_eq!(bridge_words(Bridge::reverse(0.026)), "reverse 3 %");
+        assert_eq!(
+            bridge_words(Bridge::from_pins(1.0, false, false)),
+            "braking 100 %"
+        );
+        assert_eq!(
+            bridge_words(Bridge::forward(0.0)),
+            "off",
+            "duty 0 disables the bridge"
+        );
+    }
 }

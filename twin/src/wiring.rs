@@ -10,6 +10,7 @@
 //! The twin adds the master first and then controllers 1..9 in order, so controller n is
 //! chip n on the bus and chip 0 is the master.
 
+use harness::Pin;
 use physics::wheel::Motor;
 
 /// The rover's wheel numbers.
@@ -18,6 +19,10 @@ pub const WHEELS: std::ops::RangeInclusive<u8> = 1..=6;
 pub const CONTROLLERS: std::ops::RangeInclusive<u8> = 1..=9;
 /// The master's chip index on the twin's bus.
 pub const MASTER_CHIP: usize = 0;
+/// A slave board's LED1 and LED2 (reference §12: A2, A3).
+pub const SLAVE_LEDS: [Pin; 2] = [Pin::a(2), Pin::a(3)];
+/// The master's blue LED (D7, lit while the RC link is up) and status LED (D13).
+pub const MASTER_LEDS: [Pin; 2] = [Pin::d(7), Pin::d(13)];
 
 /// One of a wheel's three motors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -93,6 +98,27 @@ pub fn place(wheel: u8, axis: Axis) -> Option<Place> {
     })
 }
 
+/// The wheel and axis that slot `motor` of controller `n` drives: the inverse of [`place`];
+/// None for a controller outside 1..=9.
+pub fn wheel_of(n: u8, motor: Motor) -> Option<(u8, Axis)> {
+    if !CONTROLLERS.contains(&n) {
+        return None;
+    }
+    let pair = (n - 1) / 3;
+    Some(match (n % 3, motor) {
+        (0, Motor::M1) => (2 * pair + 1, Axis::Lift),
+        (0, Motor::M2) => (2 * pair + 2, Axis::Lift),
+        (odd, motor) => (
+            2 * pair + if odd == 1 { 1 } else { 2 },
+            if motor == Motor::M1 {
+                Axis::Drive
+            } else {
+                Axis::Steer
+            },
+        ),
+    })
+}
+
 /// Whether controller `n` is a lift/lift board (3, 6, 9).
 pub fn is_lift_board(n: u8) -> bool {
     CONTROLLERS.contains(&n) && n.is_multiple_of(3)
@@ -127,6 +153,24 @@ mod tests {
         assert_eq!(at(6, Axis::Lift), Some((9, Motor::M2)));
         assert_eq!(at(0, Axis::Drive), None);
         assert_eq!(at(7, Axis::Lift), None);
+    }
+
+    #[test]
+    fn every_slot_of_every_controller_is_the_wheel_motor_that_places_there() {
+        let mut seen = 0;
+        for n in CONTROLLERS {
+            for motor in [Motor::M1, Motor::M2] {
+                let (wheel, axis) = wheel_of(n, motor).expect("a controller 1..9");
+                let back = place(wheel, axis).map(|p| (p.controller, p.motor));
+                assert_eq!(back, Some((n, motor)), "controller {n} {motor:?}");
+                seen += 1;
+            }
+        }
+        assert_eq!(seen, 18, "nine boards, two slots each");
+        assert_eq!(wheel_of(3, Motor::M2), Some((2, Axis::Lift)));
+        assert_eq!(wheel_of(5, Motor::M2), Some((4, Axis::Steer)));
+        assert_eq!(wheel_of(0, Motor::M1), None);
+        assert_eq!(wheel_of(10, Motor::M1), None);
     }
 
     #[test]
