@@ -186,6 +186,7 @@ fn wheel_states(control: &std::path::Path) -> Vec<[f64; 3]> {
         .lines()
         .skip_while(|l| !l.starts_with("wheel  drive"));
     rows.skip(1)
+        .take(6)
         .map(|row| {
             let mut numbers = row.split_whitespace().skip(1);
             [(); 3].map(|()| numbers.next().expect("3 values").parse().expect("a number"))

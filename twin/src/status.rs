@@ -86,6 +86,7 @@ pub fn status(rover: &mut Rover) -> String {
         "watchdog resets (master, 1..9): {:?}",
         rover.watchdog_resets()
     );
+    boards(rover, &mut out);
     let _ = write!(out, "wheel  drive ticks/s  steer °  lift °");
     for w in WHEELS {
         if let Ok(s) = rover.wheel(w) {
@@ -96,7 +97,6 @@ pub fn status(rover: &mut Rover) -> String {
             );
         }
     }
-    boards(rover, &mut out);
     out
 }
 
@@ -106,15 +106,15 @@ pub fn status(rover: &mut Rover) -> String {
 fn boards(rover: &Rover, out: &mut String) {
     let now = rover.micros();
     if let Some([blue, status]) = rover.leds(MASTER_CHIP) {
-        let _ = write!(
+        let _ = writeln!(
             out,
-            "\nmaster LEDs: blue {}, status {}",
+            "master LEDs: blue {}, status {}",
             describe(blue, now),
             describe(status, now)
         );
     }
     for n in CONTROLLERS {
-        let _ = write!(out, "\ncontroller {n} ({}):", wiring::image_of(n));
+        let _ = write!(out, "controller {n} ({}):", wiring::image_of(n));
         if let Some([led1, led2]) = rover.leds(usize::from(n)) {
             let _ = write!(
                 out,
@@ -138,6 +138,7 @@ fn boards(rover: &Rover, out: &mut String) {
                 .collect();
             let _ = write!(out, " {}", motors.join(", "));
         }
+        out.push('\n');
     }
 }
 
