@@ -86,6 +86,8 @@ pub enum Command {
     /// and lift: the calibration less 10°); `write` only against the register's range, as
     /// the original library checks its own register writes. The rover stops when the
     /// script ends (closing the port reboots it), so end with `wait` for a demand to act.
+    /// The first write waits until 5 s after the master's banner, when the master starts
+    /// watching the controllers.
     /// Exit status 3: the script ran to its end with the rover stopped (a board in an
     /// exception other than its boot state, or a controller not answering, at the last
     /// view or at one more update() when frames went out after it).

@@ -220,8 +220,9 @@ pub enum HostError {
         source: Box<HostError>,
     },
 
-    /// A script ran to its end with the rover stopped by an exception (exit status 3).
-    #[error("{path} ran to its end with the rover stopped: {}. A board in exception stops its motors until a `reset` line in the script clears it, which holds once the cause is gone (docs/safety.md lists each exception's causes); a controller that does not answer is off the bus or unpowered; a rebooted one needs `calibrate` again", faults.join("; "))]
+    /// A script ran to its end with a board stopped by an exception or not answering
+    /// (exit status 3).
+    #[error("{path} ran to its end with boards stopped or out of reach: {}. A board in exception stops its motors until a `reset` line in the script clears it, which holds once the cause is gone (docs/safety.md lists each exception's causes); a controller that does not answer is off the bus or unpowered; a rebooted one needs `calibrate` again", faults.join("; "))]
     EndedInException {
         /// The script's path.
         path: String,

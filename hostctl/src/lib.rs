@@ -175,7 +175,10 @@ pub fn run_with<P: Port>(
     out: &mut dyn Write,
 ) -> Result<(), HostError> {
     let result = (|| {
-        let plan = plan(&cli.command)?;
+        let mut plan = plan(&cli.command)?;
+        if let Plan::Run(run) = &mut plan {
+            run.settled = std::time::Duration::from_millis(cli.settle_ms);
+        }
         let path = match port_path(cli.port.as_deref(), env_port) {
             Err(HostError::NoPort) => fallback()?,
             other => other?,

@@ -1167,8 +1167,8 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
         ]
     );
     let legend = "no answer: controller 6 does not answer the master on the I2C bus (unplugged, \
-                  unpowered or rebooting; the master stops every motor when one drops off); \
-                  read again every round, each after a 300 ms wait";
+                  unpowered or rebooting; from 5 s after its boot the master stops every motor \
+                  when one it has heard drops off); read again every round, each after a 300 ms wait";
     assert!(
         o.out.contains(&format!(
             "read set 1, round 1\n\
@@ -1572,7 +1572,11 @@ fn with_json_a_failure_is_a_json_line_too() {
         .chain([vec![12]])
         .collect();
     replies.push(vec![0x8c]);
-    let o = hostctl(&format!("--json run {}", path.display()), &replies);
+    // (A settle of 5 s: the first write does not wait for the master's watch.)
+    let o = hostctl(
+        &format!("--json --settle-ms 5000 run {}", path.display()),
+        &replies,
+    );
     std::fs::remove_file(&path).unwrap();
     let e = o.result.unwrap_err().to_string();
     assert!(

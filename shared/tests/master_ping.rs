@@ -662,6 +662,38 @@ fn failures_of_pc_relayed_accesses_count_as_evidence() {
 }
 
 #[test]
+fn a_slave_the_pc_reached_during_the_settle_and_then_lost_is_found_silent_by_the_first_ping() {
+    // The PC drives slave 4 at 2.5 s (the master relays its frame), and slave 4 drops off
+    // the bus at 4.3 s, before the pings start.
+    let mut rover = Rover::new();
+    let mut s = Schedule::new();
+    let mut latch = MasterLatch::boot();
+    rover.run(&mut s, &mut latch, 2_000_000);
+    latch.clear();
+    s.observe(4, true, 2500, &mut latch);
+    rover.run(&mut s, &mut latch, 4_300_000);
+    rover.slaves[4].answering = false;
+    // Relayed failures during the settle prove nothing (slaves reboot from the boot resets).
+    s.observe(4, false, 4400, &mut latch);
+    s.observe(4, false, 4450, &mut latch);
+    assert_eq!(latch.data(), 0, "no raise before 5 s");
+    rover.run(&mut s, &mut latch, 5_100_000);
+    assert_eq!(
+        latch.data(),
+        0x040b,
+        "SlaveSilent naming slave 4 at the first ping"
+    );
+    let spread = spread_targets(&rover.actions_between(5_000_000, rover.now_us));
+    assert_eq!(spread, [1, 2, 3, 5, 6, 7, 8, 9]);
+    // A slave never reached before the settle and absent after it is still not fitted.
+    let mut absent = Rover::new();
+    absent.slaves[7].answering = false;
+    let (s, latch, _) = booted_with(absent);
+    assert_eq!(latch.data(), 0);
+    assert_eq!(s.silent(), 0);
+}
+
+#[test]
 fn polling_without_feeding_repeats_the_current_action() {
     let mut s = Schedule::new();
     let mut latch = MasterLatch::boot();

@@ -171,6 +171,42 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
 }
 
 #[test]
+fn a_controller_driven_and_lost_before_the_first_ping_is_found_by_it() {
+    // Driving before the master's watch starts (5 s after its boot), and controller 4
+    // (wheel 3's drive and steer) drops off the bus before it.
+    let mut s = Session::start();
+    s.calibrate();
+    s.reset_exceptions();
+    let all: Vec<(u8, f32)> = WHEELS.map(|w| (w, 500.0)).collect();
+    s.set(Motor::Drive, &all);
+    s.update();
+    let cut_at = s.twin.borrow().micros();
+    assert!(
+        cut_at < 4_800_000,
+        "cut at {cut_at} us, not before the first ping"
+    );
+    s.twin.borrow_mut().cut(4).unwrap();
+    // The master heard it through the PC's frames, so the first ping (5.0 s) finds it
+    // silent, not a board never fitted, and stops every other motor.
+    let (ok, snap, took) = s.until(2.0, |s| master_exception(s) != 0);
+    assert!(ok, "no exception after {took:?}");
+    assert_eq!(
+        split(master_exception(&snap)),
+        (11, 4, 0),
+        "SlaveSilent on controller 4"
+    );
+    let at = s.twin.borrow().micros();
+    assert!((5_000_000..5_400_000).contains(&at), "found at {at} us");
+    s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    for (w, v) in WHEELS.zip(&speeds) {
+        if w != 3 {
+            assert!(v.abs() < 50.0, "wheel {w} still turning: {speeds:?}");
+        }
+    }
+}
+
+#[test]
 fn update_goes_on_past_a_controller_cut_off_the_bus_and_sees_it_come_back() {
     let mut s = watched_while_driving();
     s.twin.borrow_mut().cut(5).unwrap();

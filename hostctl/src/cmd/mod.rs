@@ -227,8 +227,8 @@ pub fn no_answer_legend(devices: &[u8]) -> String {
     };
     format!(
         "no answer: {who} {} {does} not answer the master on the I2C bus (unplugged, unpowered \
-         or rebooting; the master stops every motor when one drops off); read again every \
-         round, each after a {} ms wait",
+         or rebooting; from 5 s after its boot the master stops every motor when one it has \
+         heard drops off); read again every round, each after a {} ms wait",
         list.join(", "),
         crate::link::SILENT_REREAD_TIMEOUT.as_millis()
     )

@@ -6,7 +6,8 @@
 //! the original library's init() does, then runs the script line by line (see
 //! [`super::script`] for the language), printing each line as it starts. `wait` and
 //! `watch` poll update() and show the live view: required against actual speed and
-//! position per wheel, redrawn in place on a terminal.
+//! position per wheel, redrawn in place on a terminal. The script's first write waits until
+//! [`WATCH_FROM`] after the master's banner, when the master watches every controller.
 //!
 //! With `--json` every printed thing is one JSON object per line, each with
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
@@ -72,7 +73,17 @@ pub struct Plan {
     pub lines: Vec<Line>,
     /// The pairs fitted.
     pub pairs: Pairs,
+    /// How long after the master's banner the run starts (the `--settle-ms` waited), so
+    /// that its first write waits for the master's watch ([`WATCH_FROM`]).
+    pub settled: Duration,
 }
+
+/// How long after the master's banner a run's first write waits: the master pings every
+/// controller, arming each one's own bus-silence stop, and starts finding the ones that
+/// drop off, from 5 s after its boot (reference §5; the banner comes about 0.3 s after the
+/// boot, so the first ping round is over by then). A board driven before then and lost
+/// before its first ping would keep its demand, out of anyone's reach.
+pub const WATCH_FROM: Duration = Duration::from_millis(shared::master::ping::BOOT_SETTLE_MS as u64);
 
 /// Reads and checks the script; nothing is sent.
 pub fn plan(args: &Args) -> Result<Plan, HostError> {
@@ -83,7 +94,12 @@ pub fn plan(args: &Args) -> Result<Plan, HostError> {
         source,
     })?;
     let lines = script::parse_for(&path, &source, pairs)?;
-    Ok(Plan { path, lines, pairs })
+    Ok(Plan {
+        path,
+        lines,
+        pairs,
+        settled: Duration::ZERO,
+    })
 }
 
 /// Time as the script sees it: the wall clock, or a fake one in tests.
@@ -150,6 +166,7 @@ pub fn run<P: Port>(
     clock: &mut dyn Clock,
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
+    let start = clock.now();
     let poller = Poller::for_pairs(plan.pairs)?;
     poller.configure(link)?;
     let mut session = Session::default();
@@ -174,7 +191,18 @@ pub fn run<P: Port>(
             writeln!(output.out, "note: {note}").map_err(HostError::Output)?;
         }
     }
+    let mut watched = false;
     for line in &plan.lines {
+        if !watched
+            && line
+                .actions
+                .iter()
+                .any(|a| matches!(a, Action::Op(Op::Write(_))))
+        {
+            watched = true;
+            let since_banner = plan.settled + clock.now().saturating_sub(start);
+            wait_for_the_watch(since_banner, clock, output)?;
+        }
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
             if output.json {
@@ -196,6 +224,32 @@ pub fn run<P: Port>(
         })?;
     }
     ended_in_exception(plan, link, &poller, session)
+}
+
+/// Holds the first write until [`WATCH_FROM`] after the master's banner, saying why.
+fn wait_for_the_watch(
+    since_banner: Duration,
+    clock: &mut dyn Clock,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let left = WATCH_FROM.saturating_sub(since_banner);
+    if left.is_zero() {
+        return Ok(());
+    }
+    let note = format!(
+        "waiting {:.1} s before the first write: the master starts watching the controllers \
+         5 s after its boot (from then a controller that drops off stops every motor)",
+        left.as_secs_f64()
+    );
+    if output.json {
+        writeln!(output.out, "{}", event().str("note", &note).finish())
+    } else {
+        writeln!(output.out, "note: {note}")
+    }
+    .map_err(HostError::Output)?;
+    output.out.flush().map_err(HostError::Output)?;
+    clock.sleep(left);
+    Ok(())
 }
 
 /// The run's outcome once every line is done: an error when the rover ends in an exception
@@ -668,6 +722,7 @@ mod tests {
             path: "t.rover".into(),
             lines,
             pairs,
+            settled: WATCH_FROM,
         }
     }
 
@@ -680,6 +735,43 @@ mod tests {
         pauses: Vec<Duration>,
         /// What was printed.
         text: String,
+    }
+
+    #[test]
+    fn the_first_write_waits_for_the_masters_watch_of_the_controllers() {
+        // Started 2 s after the banner: a `say` goes at once, the first write 3 s later.
+        let mut early = plan("say hi\nwrite 1 drive_reqspeed 10\nwrite 1 drive_reqspeed 0\n");
+        early.settled = Duration::from_secs(2);
+        let mut replies = configure_replies();
+        replies.extend([vec![0], vec![0]]);
+        let ran = run_plan(&early, &replies, false);
+        ran.result.unwrap();
+        assert_eq!(ran.pauses, [Duration::from_secs(3)], "one wait, once");
+        let text: Vec<&str> = ran.text.lines().skip(1).collect();
+        assert_eq!(
+            text,
+            [
+                "hi",
+                "note: waiting 3.0 s before the first write: the master starts watching the \
+                 controllers 5 s after its boot (from then a controller that drops off stops \
+                 every motor)",
+                "> write 1 drive_reqspeed 10",
+                "> write 1 drive_reqspeed 0",
+            ]
+        );
+        assert_eq!(ran.hex.len(), 10 + 2, "the sets, then both writes");
+        // Started late enough: no wait; and the same note as JSON.
+        let ran = run_plan(&plan("write 1 drive_reqspeed 10\n"), &replies, false);
+        assert!(ran.pauses.is_empty(), "{:?}", ran.pauses);
+        early.settled = Duration::from_millis(4500);
+        let ran = run_plan(&early, &replies, true);
+        assert_eq!(ran.pauses, [Duration::from_millis(500)]);
+        assert!(
+            ran.text
+                .contains("{\"command\":\"run\",\"note\":\"waiting 0.5 s before"),
+            "{}",
+            ran.text
+        );
     }
 
     /// Runs `source` as `t.rover` against a fake port answering `replies`.
@@ -1012,7 +1104,7 @@ mod tests {
             .expect_err("the run ends with controller 4 silent");
         assert_eq!(
             ended.to_string(),
-            "t.rover ran to its end with the rover stopped: controller 4: no answer. A board \
+            "t.rover ran to its end with boards stopped or out of reach: controller 4: no answer. A board \
              in exception stops its motors until a `reset` line in the script clears it, \
              which holds once the cause is gone (docs/safety.md lists each exception's \
              causes); a controller that does not answer is off the bus or unpowered; a \

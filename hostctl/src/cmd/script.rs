@@ -51,7 +51,7 @@ pub enum Action {
     /// Print a line.
     Say(String),
     /// Add registers of a device to every later live view (each such line takes one of the
-    /// read sets [`SHOW_SETS`], [`ShowSets`]).
+    /// read sets [`SHOW_SETS`], handed out in turn).
     Show {
         /// The device.
         target: Target,

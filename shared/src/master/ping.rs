@@ -30,8 +30,10 @@
 //!      reset is not caught before it has processed the reset.
 //!
 //! # Silent slaves (new)
-//! A slave that has answered since boot and then fails two consecutive accesses (any of
-//! the above, or PC-relayed ones reported with [`Schedule::observe`]) is *silent*: the
+//! A slave that has answered since boot (PC-relayed accesses count from the start, so one
+//! the PC drove and lost before the first ping is found then) and then fails two
+//! consecutive accesses from 5 s after boot (any of the above, or PC-relayed ones reported
+//! with [`Schedule::observe`]) is *silent*: the
 //! master raises [`ExceptionType::SlaveSilent`] naming it (motor 0), which spreads to all
 //! other slaves, so every motor stops. The first failure triggers an immediate re-check,
 //! so a single disturbed transfer is not enough. A slave that never answered is absent,
@@ -283,9 +285,7 @@ impl Schedule {
     // Out of line: PC frames and the remote control's writes both report (one copy).
     #[inline(never)]
     pub fn observe_at(&mut self, device: u8, answered: bool, now_ms: u16, latch: &mut MasterLatch) {
-        if self.started {
-            self.evidence(device, answered, now_ms, latch);
-        }
+        self.evidence(device, answered, now_ms, latch);
     }
 
     /// Raises an exception on the master (e.g. type 10, a missing temperature sensor):
@@ -399,9 +399,13 @@ impl Schedule {
             return;
         }
         if answered {
-            if self.started {
-                self.health.answered(device, at);
-            }
+            // Before the settle too: a slave the PC reached is fitted, so one lost before the
+            // first ping is found silent by it, not taken for a board never fitted.
+            self.health.answered(device, at);
+            return;
+        }
+        if !self.started {
+            // A failure during the settle proves nothing: the slaves reboot from the boot resets.
             return;
         }
         match self.health.failed(device, at) {

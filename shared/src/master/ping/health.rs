@@ -1,6 +1,6 @@
 //! Which slaves answer: present, missed once, silent; and when each was last tried.
 //!
-//! A slave is *present* once it has answered after the boot settling time. Only present
+//! A slave is *present* once it has answered any access since boot. Only present
 //! slaves can go *silent*: a rover built with fewer boards (the PC library's pair mask)
 //! has slaves that never answer, and they must not hold the master in exception forever.
 //! One failed access marks a present slave *missed* and asks for an immediate re-check;
