@@ -105,15 +105,25 @@ impl Exception {
         type_name(self.code)
     }
 
-    /// The wheel and motor it names ([`wheel_motor`]), if any.
+    /// The wheel and motor it names ([`wheel_motor`]), if any: none for a whole board,
+    /// which a SlaveSilent is whatever its motor field holds (the master fills in 0).
     pub fn wheel_motor(&self) -> Option<(u8, Motor)> {
+        if self.whole_board() {
+            return None;
+        }
         wheel_motor(self.board, self.motor)
+    }
+
+    /// Whether it stands for a whole board: a motor field other than 0 and 1, or a board
+    /// off the bus.
+    fn whole_board(&self) -> bool {
+        self.motor > 1 || self.code == ExceptionType::SlaveSilent as u8
     }
 
     fn motor_words(&self) -> String {
         match self.wheel_motor() {
             Some((wheel, m)) => format!("motor {} (wheel {wheel}'s {})", self.motor, m.name()),
-            None if self.motor > 1 => "the whole board".to_owned(),
+            None if self.whole_board() => "the whole board".to_owned(),
             None => format!("motor {}", self.motor),
         }
     }
@@ -198,6 +208,14 @@ mod tests {
             none.json(),
             r#"{"type":0,"name":null,"controller":0,"motor":0,"text":"no exception"}"#
         );
+        // A controller off the bus is a whole board off it: the master's motor 0 is a filler.
+        let silent = Exception::master(0x080b);
+        assert_eq!(silent.wheel_motor(), None);
+        assert_eq!(
+            silent.words(),
+            "slave not answering on controller 8, the whole board"
+        );
+        assert!(!silent.json().contains("wheel"), "{}", silent.json());
         // The master's own (controller 0): PC silence.
         let own = Exception::of(0, master, 13).expect("the master's EXCEPTIONDATA");
         assert_eq!(

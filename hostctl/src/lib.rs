@@ -231,9 +231,16 @@ where
         .iter()
         .find(|a| cli.find_subcommand(a.as_str()).is_some())
         .map_or("", String::as_str);
+    // The error's paragraph (what is missing comes on the lines after its first), not
+    // the usage after it.
     let rendered = error.render().to_string();
-    let first = rendered.lines().next().unwrap_or_default();
-    let words = first.strip_prefix("error: ").unwrap_or(first);
+    let paragraph: Vec<&str> = rendered
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .map(str::trim)
+        .collect();
+    let words = paragraph.join(" ");
+    let words = words.strip_prefix("error: ").unwrap_or(&words);
     Some(
         json::Object::new()
             .str("command", command)

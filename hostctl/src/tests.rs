@@ -151,7 +151,8 @@ fn a_write_that_nothing_will_act_on_says_so() {
         out.ends_with(
             "note: any write to a controller's EXCEPTIONDATA raises REMOTESLAVE (3) on it, \
              whatever the value: controller 4 stops both its motors until its exception is \
-             reset (`write 4 reset 1`)\n"
+             reset, by a `reset` line in a `hostctl run FILE` script (this command's end \
+             reboots the rover anyway, as closing the port does)\n"
         ),
         "{out}"
     );
@@ -581,9 +582,10 @@ fn a_temperature_the_master_has_not_read_is_no_reading() {
          the sensor is missing, or its last read failed\nnote: this sensor is first read about \
          5 s after the master's boot: `hostctl --settle-ms 6000 read 0 TEMPAMBIENT` waits for \
          it. With no reading even then, it is missing or its reads fail, or another sensor is \
-         missing: the master then never reads the last one(s) in its order (ambient, 1..9), \
-         and its EXCEPTIONDATA says 10, sensor missing (`hostctl watch --readset 2` shows \
-         every sensor as it is read)\n"
+         missing: the master then never reads the last one(s) in its order (ambient, 1..9). \
+         It raises 10, sensor missing, but keeps only its first exception, and \
+         a one-shot command sees its boot one: a `hostctl run` script that `reset`s and then \
+         waits shows it (`hostctl watch --readset 2` shows every sensor as it is read)\n"
     );
     // Controller 9's sensor is the tenth read, 18 s later.
     let o = hostctl("read 0 temp9", &unread);
@@ -1234,8 +1236,9 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     assert!(o.out.contains("\n3    reply lost\n"), "{}", o.out);
     assert!(
         o.out.ends_with(
-            "reply lost: the serial line lost or garbled the reply of device 3 this round (the \
-             master still answers); read again next round; the view stops if one read loses 4 in \
+            "reply lost: the serial line lost or garbled the read of device 3 this round, the \
+             request on its way to the master or the reply on its way back (the master still \
+             answers); read again next round; the view stops if one read loses 4 in \
              a row\n"
         ),
         "{}",
@@ -1533,9 +1536,11 @@ fn with_json_a_command_line_clap_refuses_is_a_json_line_too() {
     };
     // A missing argument and a value beyond its limit, with --json before or after.
     let line = refused("--json read 1").expect("a JSON line");
-    assert!(
-        line.starts_with("{\"command\":\"read\",\"error\":\"the following required arguments"),
-        "{line}"
+    assert_eq!(
+        line,
+        "{\"command\":\"read\",\"error\":\"the following required arguments were not provided: \
+         <REGISTER>\"}",
+        "names what is missing, without the usage"
     );
     let line = refused("--settle-ms 70000 read 1 status --json").expect("a JSON line");
     assert!(line.contains("\"error\":\"invalid value '70000'"), "{line}");

@@ -111,7 +111,8 @@ pub fn remote_raised(device: u8) -> String {
     format!(
         "note: any write to a controller's EXCEPTIONDATA raises REMOTESLAVE (3) on it, \
          whatever the value: controller {device} stops both its motors until its exception \
-         is reset (`write {device} reset 1`)"
+         is reset, by a `reset` line in a `hostctl run FILE` script (this command's end \
+         reboots the rover anyway, as closing the port does)"
     )
 }
 
@@ -148,8 +149,10 @@ pub fn first_read_hint(reg: &Register) -> Option<String> {
         "this sensor is first read about {} s after the master's boot: `hostctl --settle-ms \
          {settle_ms} read 0 {}` waits for it. With no reading even then, it is missing or its \
          reads fail, or another sensor is missing: the master then never reads the last one(s) \
-         in its order (ambient, 1..9), and its EXCEPTIONDATA says 10, sensor missing \
-         (`hostctl watch --readset 2` shows every sensor as it is read)",
+         in its order (ambient, 1..9). It raises 10, sensor missing, but keeps \
+         only its first exception, and a one-shot command sees its boot one: a `hostctl run` \
+         script that `reset`s and then waits shows it (`hostctl watch --readset 2` shows \
+         every sensor as it is read)",
         5 + 2 * index,
         reg.short_name()
     ))

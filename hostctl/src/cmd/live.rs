@@ -964,8 +964,9 @@ mod tests {
         );
         assert!(
             lines.contains(
-                &"reply lost: the serial line lost or garbled the reply of devices 1, 0 this round \
-                  (the master still answers); read again next round; the view stops if one read loses 4 \
+                &"reply lost: the serial line lost or garbled the read of devices 1, 0 this round, \
+                  the request on its way to the master or the reply on its way back (the master \
+                  still answers); read again next round; the view stops if one read loses 4 \
                   in a row"
                     .to_owned()
             ),

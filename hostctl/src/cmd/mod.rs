@@ -210,8 +210,9 @@ pub fn reply_lost_legend(devices: &[u8]) -> String {
         "devices"
     };
     format!(
-        "reply lost: the serial line lost or garbled the reply of {whose} {} this round (the \
-         master still answers); read again next round; the view stops if one read loses {} in a row",
+        "reply lost: the serial line lost or garbled the read of {whose} {} this round, the \
+         request on its way to the master or the reply on its way back (the master still \
+         answers); read again next round; the view stops if one read loses {} in a row",
         list.join(", "),
         crate::link::MAX_LOST_IN_A_ROW + 1
     )
