@@ -194,6 +194,15 @@ pub enum HostError {
         source: io::Error,
     },
 
+    /// The script as a whole cannot be run (its line endings, its length); nothing was sent.
+    #[error("{path}: {why}; nothing was sent")]
+    ScriptForm {
+        /// The script's path.
+        path: String,
+        /// What is wrong and how to fix it.
+        why: String,
+    },
+
     /// A script line is wrong; nothing was sent.
     #[error("{path} line {line} (`{text}`): {why}")]
     ScriptLine {
@@ -230,12 +239,24 @@ pub enum HostError {
         faults: Vec<String>,
     },
 
+    /// A watch with `--count` ended with a round that could not read some devices (exit
+    /// status 3).
+    #[error("the watch ended without the values of device(s) {}: the last round had no answer from them or lost their reply on the serial line (its rows say which); a controller that does not answer is off the bus or unpowered", devices.iter().map(u8::to_string).collect::<Vec<_>>().join(", "))]
+    WatchEndedUnread {
+        /// The devices whose row had no values in the last round.
+        devices: Vec<u8>,
+    },
+
     /// The twin could not be started or joined.
     #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH` and pass hostctl the same --port PATH")]
     Twin {
         /// What went wrong.
         why: String,
     },
+
+    /// `--port` was given an empty path.
+    #[error("--port is empty: give the serial device's path (e.g. /dev/ttyACM0 or the twin's pty), or leave --port out to use BLODWEN_PORT or the twin")]
+    EmptyPort,
 
     /// Neither `--port` nor `BLODWEN_PORT` says where the rover is.
     #[error("no serial port given: pass --port PATH (e.g. /dev/ttyACM0 or the twin's pty), set BLODWEN_PORT, or start the twin")]
@@ -251,7 +272,7 @@ pub enum HostError {
     },
 
     /// The master never said `Ready`.
-    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right?")]
+    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right? (a twin told to lose serial bytes loses the banner too: `twin inject --link {path} status` shows any still pending, `drop-serial clear` cancels them)")]
     NoBanner {
         /// The port.
         path: String,

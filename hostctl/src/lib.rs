@@ -135,6 +135,7 @@ pub fn execute_with_clock<P: Port>(
 /// Picks the port: `--port`, else `BLODWEN_PORT` (passed in as `env`).
 pub fn port_path(flag: Option<&str>, env: Option<String>) -> Result<String, HostError> {
     match flag {
+        Some("") => Err(HostError::EmptyPort),
         Some(p) => Ok(p.to_owned()),
         None => env.filter(|p| !p.is_empty()).ok_or(HostError::NoPort),
     }
@@ -158,7 +159,9 @@ pub fn run<P: Port>(
 /// that could not run; 1 for anything else (clap's usage errors are 2).
 pub fn exit_status(error: &HostError) -> std::process::ExitCode {
     match error {
-        HostError::EndedInException { .. } => std::process::ExitCode::from(3),
+        HostError::EndedInException { .. } | HostError::WatchEndedUnread { .. } => {
+            std::process::ExitCode::from(3)
+        }
         _ => std::process::ExitCode::FAILURE,
     }
 }

@@ -548,7 +548,9 @@ mod tests {
         assert_eq!(
             err,
             "no `Ready` from /dev/pts/9: nothing for 5 s after 1 line(s); \
-             is the rover/twin running? is /dev/pts/9 right?"
+             is the rover/twin running? is /dev/pts/9 right? (a twin told to lose serial bytes \
+             loses the banner too: `twin inject --link /dev/pts/9 status` shows any still \
+             pending, `drop-serial clear` cancels them)"
         );
     }
 }

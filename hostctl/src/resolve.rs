@@ -41,13 +41,23 @@ impl Target {
     }
 }
 
-/// Parses a number in decimal or `0x` hex.
+/// Parses a number in decimal or `0x` hex (one too large for 32 bits is `u32::MAX`, out of
+/// every range).
 fn number(text: &str) -> Option<u32> {
     let t = text.trim();
     match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        Some(digits) => hex_number(digits).map(|v| u32::try_from(v).unwrap_or(u32::MAX)),
         None => t.parse().ok(),
     }
+}
+
+/// `digits` as hexadecimal: hex digits only (`from_str_radix` would also take a sign, so
+/// `0x+1` would pass); a number too large for 64 bits is `u64::MAX`, out of every range.
+fn hex_number(digits: &str) -> Option<u64> {
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    Some(u64::from_str_radix(digits, 16).unwrap_or(u64::MAX))
 }
 
 /// Parses a device number (0..9).
@@ -196,9 +206,7 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
     let parsed = match hex {
         // An unmapped register (a bit field, a count) takes hexadecimal too, as device and
         // register numbers do; its values fit 16 bits, so the f32 is exact where it counts.
-        Some(digits) if reg.range.is_none() => {
-            u32::from_str_radix(digits, 16).ok().map(|v| v as f32)
-        }
+        Some(digits) if reg.range.is_none() => hex_number(digits).map(|v| v as f32),
         // "nan" parses as an f32, but is no number; "inf" and 1e39 are out of range below.
         _ => given.parse::<f32>().ok().filter(|v| !v.is_nan()),
     };
@@ -394,7 +402,7 @@ mod tests {
         assert_eq!(device("8").unwrap().kind, BoardKind::DriveSteer);
         assert_eq!(device("0x6").unwrap().kind, BoardKind::LiftLift);
         assert_eq!(device("9").unwrap().device, 9);
-        for bad in ["10", "15", "256", "-1", "one", ""] {
+        for bad in ["10", "15", "256", "-1", "one", "", "0x+1", "0x-0"] {
             assert!(
                 matches!(device(bad), Err(HostError::BadDevice { ref given }) if given == bad),
                 "{bad}"
@@ -516,10 +524,20 @@ mod tests {
             value(ds(), disabled, "0x10000"),
             Err(HostError::OutOfRange { .. })
         ));
-        for bad in ["0x", "0xg1", "0x-1"] {
+        for bad in ["0x", "0xg1", "0x-1", "0x+1", "0x 1"] {
             assert!(
                 matches!(value(ds(), disabled, bad), Err(HostError::BadValue { .. })),
                 "{bad}"
+            );
+        }
+        // Hex too long for any register is out of range, not "not a number".
+        for long in ["0xffffffffff", "0xffffffffffffffffffff"] {
+            assert!(
+                matches!(
+                    value(ds(), disabled, long),
+                    Err(HostError::OutOfRange { .. })
+                ),
+                "{long}"
             );
         }
         assert!(matches!(

@@ -1213,7 +1213,12 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     ]
     .concat();
     let o = hostctl(WATCH_SET_1_TWICE, &replies);
-    o.result.unwrap();
+    // The watch ends without controller 3's values: status 3, naming it.
+    assert!(
+        matches!(&o.result, Err(HostError::WatchEndedUnread { devices }) if devices == &[3]),
+        "{:?}",
+        o.result
+    );
     let (round1, round2) = o.out.split_once("round 2").expect("a second round");
     assert!(round1.contains("\n6    no answer\n"), "{}", o.out);
     let round2 = collapse(round2);
@@ -1232,7 +1237,11 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
         "watch --readset 1 --count 1 --interval-ms 0 TIMER",
         &replies,
     );
-    o.result.unwrap();
+    assert!(
+        matches!(&o.result, Err(HostError::WatchEndedUnread { devices }) if devices == &[3]),
+        "{:?}",
+        o.result
+    );
     assert!(o.out.contains("\n3    reply lost\n"), "{}", o.out);
     assert!(
         o.out.ends_with(
@@ -1248,10 +1257,22 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
         "--json watch --readset 1 --count 1 --interval-ms 0 TIMER",
         &replies,
     );
-    o.result.unwrap();
+    assert!(o.result.is_err());
     assert_eq!(
         o.out.lines().next(),
         Some("{\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":null,\"reply_lost\":true}")
+    );
+    // The JSON ends with the error, which names the device.
+    let last = o.out.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with(
+            "{\"command\":\"watch\",\"error\":\"the watch ended without the values of device(s) 3:"
+        ),
+        "{last}"
+    );
+    assert_eq!(
+        crate::exit_status(&HostError::WatchEndedUnread { devices: vec![3] }),
+        std::process::ExitCode::from(3)
     );
 }
 
@@ -1820,4 +1841,11 @@ fn the_port_flag_wins_over_the_environment() {
         crate::port_path(None, Some(String::new())),
         Err(HostError::NoPort)
     ));
+    // An empty --port is a mistake to name, not a cue to fall back on the twin.
+    let empty = crate::port_path(Some(""), Some("/dev/b".into())).unwrap_err();
+    assert_eq!(
+        empty.to_string(),
+        "--port is empty: give the serial device's path (e.g. /dev/ttyACM0 or the twin's pty), \
+         or leave --port out to use BLODWEN_PORT or the twin"
+    );
 }

@@ -113,9 +113,26 @@ pub fn parse(path: &str, source: &str) -> Result<Vec<Line>, HostError> {
     parse_for(path, source, Pairs::ALL)
 }
 
+/// The most command lines (not blank, not only a comment) one script may hold: each keeps
+/// the demands as they stand after it (about 1.4 KB), so a generated script of millions of
+/// lines would exhaust the memory before its first line ran.
+pub const MAX_LINES: usize = 20_000;
+
 /// [`parse`] for a rover with only `pairs` fitted: `all`, `calibrate`, `reset`, `stop` and
 /// `turn` reach those, and a line naming another wheel or controller is refused.
 pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, HostError> {
+    let form = |why: String| HostError::ScriptForm {
+        path: path.to_owned(),
+        why,
+    };
+    // Lines end in LF or CRLF; a lone CR would make the rest of the script one line.
+    if source.split("\r\n").any(|part| part.contains('\r')) {
+        return Err(form(
+            "its lines end in a lone CR (the old Mac format), which would run as one line; \
+             save it with LF or CRLF line endings"
+                .to_owned(),
+        ));
+    }
     let mut pc = Pc::with_pairs(pairs);
     let mut lines = Vec::new();
     let mut show_sets = ShowSets::default();
@@ -125,6 +142,12 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
         let text = without_comment(raw).trim();
         if text.is_empty() {
             continue;
+        }
+        if lines.len() == MAX_LINES {
+            return Err(form(format!(
+                "more than {MAX_LINES} command lines, the most one script holds (each keeps \
+                 the demands as they stand, for its view); split it into several runs"
+            )));
         }
         let actions = line(&mut pc, text, &mut show_sets).map_err(|why| {
             // `#forward` or `1000#fwd` is text, not a comment: say how to write one.
@@ -591,6 +614,38 @@ mod tests {
         assert_eq!(lines[0].text, "reset");
         assert_eq!(lines[0].number, 1);
         assert_eq!(lines.len(), 2);
+    }
+
+    #[test]
+    fn line_endings_are_lf_or_crlf_and_a_lone_cr_is_refused() {
+        let crlf = parse("s", "say one\r\nsay two\r\n").unwrap();
+        assert_eq!(
+            crlf.iter().map(|l| l.text.as_str()).collect::<Vec<_>>(),
+            ["say one", "say two"]
+        );
+        for cr in ["say cr only\rsay two\r", "say one\r\nsay two\rsay three\n"] {
+            assert_eq!(
+                parse("s", cr).unwrap_err().to_string(),
+                "s: its lines end in a lone CR (the old Mac format), which would run as one \
+                 line; save it with LF or CRLF line endings; nothing was sent"
+            );
+        }
+    }
+
+    #[test]
+    fn a_script_holds_at_most_max_lines_command_lines() {
+        // Blank and comment lines do not count.
+        let full = "say x\n\n# note\n".repeat(MAX_LINES);
+        assert_eq!(parse("s", &full).unwrap().len(), MAX_LINES);
+        let over = format!("{full}say one more\n");
+        assert_eq!(
+            parse("s", &over).unwrap_err().to_string(),
+            format!(
+                "s: more than {MAX_LINES} command lines, the most one script holds (each keeps \
+                 the demands as they stand, for its view); split it into several runs; nothing \
+                 was sent"
+            )
+        );
     }
 
     #[test]

@@ -39,7 +39,8 @@ pub struct Args {
     /// `ll`) [default: DS boards for set 0, LL boards for set 1, else the master].
     #[arg(long, value_name = "D[,D…]")]
     pub device: Option<String>,
-    /// Stop after this many rounds [default: run until interrupted].
+    /// Stop after this many rounds [default: run until interrupted]. Exit status 3 when
+    /// the last round lacks a device's values (no answer, or a reply lost).
     #[arg(long, value_name = "K")]
     pub count: Option<u64>,
     /// Pause between rounds, in milliseconds (at most an hour).
@@ -343,6 +344,7 @@ pub fn run<P: Port>(
 ) -> Result<(), HostError> {
     configure_sets(plan, link, |_| true)?;
     let mut number = 0;
+    let mut unread = Vec::new();
     while plan.count.is_none_or(|k| number < k) {
         if number > 0 {
             std::thread::sleep(plan.interval);
@@ -370,13 +372,24 @@ pub fn run<P: Port>(
                 }
             }
         }
+        unread = rows
+            .iter()
+            .filter(|r| r.reading.values().is_none())
+            .map(|r| r.target.device)
+            .collect();
         on_round(&Round {
             number,
             set: plan.set,
             rows,
         })?;
     }
-    Ok(())
+    // A watch that ends (--count) without some device's values says so in its status, as
+    // a script that ends with a controller not answering does.
+    if unread.is_empty() {
+        Ok(())
+    } else {
+        Err(HostError::WatchEndedUnread { devices: unread })
+    }
 }
 
 /// Configures again whichever of the plan's sets is the scratch set, when a read that
