@@ -98,25 +98,16 @@ pub fn place(wheel: u8, axis: Axis) -> Option<Place> {
     })
 }
 
-/// The wheel and axis that slot `motor` of controller `n` drives: the inverse of [`place`];
-/// None for a controller outside 1..=9.
+/// The wheel and axis that slot `motor` of controller `n` drives: the inverse of [`place`],
+/// found through it so the wiring is written once; None for a controller outside 1..=9.
 pub fn wheel_of(n: u8, motor: Motor) -> Option<(u8, Axis)> {
-    if !CONTROLLERS.contains(&n) {
-        return None;
-    }
-    let pair = (n - 1) / 3;
-    Some(match (n % 3, motor) {
-        (0, Motor::M1) => (2 * pair + 1, Axis::Lift),
-        (0, Motor::M2) => (2 * pair + 2, Axis::Lift),
-        (odd, motor) => (
-            2 * pair + if odd == 1 { 1 } else { 2 },
-            if motor == Motor::M1 {
-                Axis::Drive
-            } else {
-                Axis::Steer
-            },
-        ),
-    })
+    let slot = Place {
+        controller: n,
+        motor,
+    };
+    WHEELS
+        .flat_map(|w| Axis::ALL.map(|a| (w, a)))
+        .find(|&(w, a)| place(w, a) == Some(slot))
 }
 
 /// Whether controller `n` is a lift/lift board (3, 6, 9).
