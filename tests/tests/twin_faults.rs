@@ -6,7 +6,8 @@
 //! unplugged temperature sensor raises type 10; the RC receiver takes over the drives, also
 //! with the transmitter on from power-up; a PC
 //! program that armed the PC-silence failsafe and then hangs gets every motor stopped; the
-//! status shows each board's LEDs and bridges as the bench would, and what is injected.
+//! status shows each board's LEDs and bridges as the bench would, and what is injected; the
+//! original library's emergency stop, aborted by a silent controller, still stops the rover.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -444,8 +445,14 @@ fn duty(avr: &harness::Avr, pin: harness::Pin) -> f32 {
 
 /// Whether every slave has both PWM outputs at duty 0, read from the chips.
 fn every_motor_stopped(s: &Session) -> bool {
+    motors_stopped_but(s, None)
+}
+
+/// Whether every slave but `except` has both PWM outputs at duty 0, read from the chips.
+fn motors_stopped_but(s: &Session, except: Option<u8>) -> bool {
     let mut twin = s.twin.borrow_mut();
-    (1..=9usize).all(|chip| {
+    let except = except.map(usize::from);
+    (1..=9usize).filter(|&c| Some(c) != except).all(|chip| {
         twin.bus().chip(chip).is_some_and(|avr| {
             [harness::uno::D9, harness::uno::D10]
                 .iter()
@@ -489,6 +496,67 @@ fn from_a_slave_fault_to_every_motor_stopped() {
     assert!(local <= 2_000, "{local} us");
     assert!(all <= 1_100_000, "{all} us");
     s.pass(3.0);
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
+}
+
+#[test]
+fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_rover() {
+    // The original operator's emergency stop (reference §10.3) sends 36 frames and aborts
+    // at the first non-zero reply. The original master answered 00 for a slave that did
+    // not acknowledge; this one answers 8c (NoAnswer). So with wheel 1's drive board cut
+    // off, the library sends one frame and gives up: the master itself must stop the rest.
+    let mut s = watched_while_driving();
+    let cut = hostctl::cmd::pc::device_of(1, Motor::Drive);
+    s.twin.borrow_mut().cut(cut).unwrap();
+    let ops = s.pc.emergency_stop().unwrap();
+    let mut sent = 0;
+    let mut refused = None;
+    for op in ops {
+        match op {
+            hostctl::cmd::pc::Op::Pause(d) => s.clock.sleep_for(d),
+            hostctl::cmd::pc::Op::Write(w) => {
+                let reply = s.link.transact(w.device, &w.frame, 1).expect("a reply");
+                sent += 1;
+                if reply != [0] {
+                    refused = Some((w.device, reply));
+                    break;
+                }
+            }
+        }
+    }
+    assert_eq!(
+        (sent, refused),
+        (1, Some((cut, vec![0x8c]))),
+        "the library gives up at its first frame, which the master answers NoAnswer"
+    );
+    // The frame's writes all went unanswered, so the master found the board silent at
+    // once and sent every other board into REMOTESLAVE: their motors stop within the
+    // next few ms, though the library never reached them.
+    let at = s.twin.borrow().micros();
+    let mut stopped = None;
+    while stopped.is_none() && s.twin.borrow().micros() - at < 200_000 {
+        s.twin.borrow_mut().run_us(250).unwrap();
+        let others = motors_stopped_but(&s, Some(cut));
+        if others {
+            stopped = Some(s.twin.borrow().micros() - at);
+        }
+    }
+    let stopped = stopped.expect("the other eight boards still drive 200 ms after the stop");
+    println!(
+        "library stop aborted at controller {cut}: the other boards stopped {stopped} us later"
+    );
+    let snap = s.update();
+    assert_eq!(
+        split(master_exception(&snap)),
+        (11, u16::from(cut), 0),
+        "SlaveSilent on the cut board"
+    );
+    // The cut board's own bus-silence stop ends its wheel too (BUSTIMEOUT, 2.5 s).
+    s.pass(3.5);
     let speeds = physical_speeds(&s);
     assert!(
         speeds.iter().all(|v| v.abs() < 50.0),
