@@ -92,6 +92,22 @@ impl TwiSlave {
     }
 }
 
+/// Data-space address of TWCR.
+const TWCR: *mut u8 = 0xbc as *mut u8;
+
+/// Switches the TWI off (TWEN clear), ending any transfer and releasing SDA and SCL: a
+/// master addressing the board then gets no acknowledge. For the panic path, where a TWI
+/// left on would acknowledge its address and then hold SCL low, and the whole bus with
+/// it, until the watchdog resets the board.
+///
+/// # Safety
+/// Call only where no other code will touch the TWI again (interrupts off for good).
+#[inline(always)]
+pub unsafe fn force_off() {
+    // SAFETY: the caller guarantees no concurrent TWI user; TWCR = 0 is the power-up value.
+    unsafe { core::ptr::write_volatile(TWCR, 0) };
+}
+
 /// An [`Event`] without its data byte.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Kind {

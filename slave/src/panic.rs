@@ -1,6 +1,7 @@
 //! On a panic the motors stop first: both PWM outputs disconnected (pins low) and every
-//! direction pin low. Then interrupts go off for good, both LEDs light (the "no motor"
-//! latch), and the 1-s watchdog, no longer fed, resets the board into its boot exception.
+//! direction pin low. Then interrupts go off for good, the TWI leaves the bus, both LEDs
+//! light (the "no motor" latch), and the 1-s watchdog, no longer fed, resets the board into
+//! its boot exception.
 //!
 //! An interrupt that no task binds takes the same path ([`drivers::fault_entry`]);
 //! `tests/tests/slave_panic.rs` runs it on the real images.
@@ -24,6 +25,9 @@ fn halt() -> ! {
         let _ = M2Neg::take();
     }
     executor::freeze();
+    // SAFETY: interrupts are off and the TWI task never runs again. Off the bus, the board
+    // is found silent by the master, which stops the others.
+    unsafe { drivers::twi_slave::force_off() };
     // SAFETY: as above; interrupts are off and no task runs again.
     unsafe {
         Led1::take().set_high();

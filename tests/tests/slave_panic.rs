@@ -1,8 +1,9 @@
 //! The slave's panic path in the real images: with both motors driving, the CPU is sent
 //! to the handler (`__vector_default`, where a panic and any unbound interrupt go; its
 //! address comes from the ELF). What a user sees: both motors stopped at once (direction
-//! pins low, no PWM), both LEDs lit, interrupts off, then the 1-s watchdog reboots the
-//! board into its boot exception with the motors still off.
+//! pins low, no PWM), both LEDs lit, interrupts off, the board off the bus (its address
+//! not acknowledged), then the 1-s watchdog reboots the board into its boot exception with
+//! the motors still off.
 
 mod slave_support;
 
@@ -102,8 +103,14 @@ fn panic_path(addr: u8) {
         assert!(avr.pin(Pin::a(2)) && avr.pin(Pin::a(3)), "both LEDs lit");
         assert!(!interrupts_on(&mut avr), "interrupts off");
     }
-    // Nothing answers the bus while frozen (the TWI interrupt is off).
-    assert!(r.bus.write(r.addr, &[id::REG_STATUS]).is_err());
+    // Off the bus while frozen: the TWI is switched off, so the master's address gets no
+    // acknowledge (and the master finds the board silent), where a TWI left on would
+    // acknowledge and then hold SCL low, the whole bus with it, until the watchdog.
+    let refused = r.bus.write(r.addr, &[id::REG_STATUS]);
+    assert!(
+        matches!(refused, Err(harness::twi::TwiError::AddressNack { .. })),
+        "{refused:?}"
+    );
     // The watchdog, no longer fed, reboots the board within its 1-s period.
     let chip = r.chip;
     let rebooted = r

@@ -7,7 +7,8 @@
 //! with the transmitter on from power-up; a PC
 //! program that armed the PC-silence failsafe and then hangs gets every motor stopped; the
 //! status shows each board's LEDs and bridges as the bench would, and what is injected; the
-//! original library's emergency stop, aborted by a silent controller, still stops the rover.
+//! original library's emergency stop, aborted by a silent controller, still stops the rover;
+//! a controller that panics stops the rover before its watchdog reboots it.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -561,6 +562,52 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
     assert!(
         speeds.iter().all(|v| v.abs() < 50.0),
         "still turning: {speeds:?}"
+    );
+}
+
+#[test]
+fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
+    // Controller 4 (wheel 3's drive and steer) takes its panic path while the rover
+    // drives: its own motors stop at once, the master's next access finds it silent and
+    // stops the other eight, well before its watchdog reboots it. (The bus here gives up
+    // on a chip that does not answer; on a real bus a TWI left on would hold SCL until
+    // that reboot: `slave_panic` shows the board switches its TWI off instead.)
+    let mut s = watched_while_driving();
+    let at = s.twin.borrow().micros();
+    let resets = s.twin.borrow_mut().bus().chip(4).unwrap().watchdog_resets();
+    {
+        let mut twin = s.twin.borrow_mut();
+        let mut avr = twin.bus().chip(4).expect("controller 4's chip");
+        let handler = avr
+            .symbol("__vector_default")
+            .expect("the handler is in the image");
+        while avr.state() == harness::CpuState::Sleeping {
+            avr.step();
+        }
+        // SAFETY: a plain field write to the live core between two instructions; the
+        // handler never returns, so the interrupted code's state is never used again.
+        unsafe { (*avr.as_ptr()).pc = handler };
+    }
+    // No PC traffic: the master's once-a-second ping alone must find it.
+    let mut stopped = None;
+    while stopped.is_none() && s.twin.borrow().micros() - at < 1_500_000 {
+        s.twin.borrow_mut().run_us(250).unwrap();
+        if every_motor_stopped(&s) {
+            stopped = Some(s.twin.borrow().micros() - at);
+        }
+    }
+    let stopped = stopped.expect("a motor still driven 1.5 s after the panic");
+    let rebooted = s.twin.borrow_mut().bus().chip(4).unwrap().watchdog_resets();
+    println!("controller 4 panicked: every motor stopped {stopped} us later");
+    assert_eq!(
+        rebooted, resets,
+        "found only after the watchdog rebooted it"
+    );
+    let snap = s.update();
+    assert_eq!(
+        split(master_exception(&snap)),
+        (11, 4, 0),
+        "SlaveSilent on controller 4"
     );
 }
 
