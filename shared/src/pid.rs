@@ -299,6 +299,16 @@ impl Pid {
         self.prev_actual
     }
 
+    /// Starts the output and the integral again from 0, keeping the last measurement
+    /// (D stays the change since it): for a motor leaving an exception, so that a drive
+    /// stopped at speed does not resume at the output it had (the speed form's u is
+    /// otherwise never reset, reference §7.1).
+    #[inline(always)]
+    pub fn restart(&mut self) {
+        self.integral = Fix::ZERO;
+        self.control = Fix::ZERO;
+    }
+
     /// I and D for the error `error` (after the dead zone), updating the state.
     fn terms(&mut self, gains: &Gains, error: Fix, actual: Fix) -> (Fix, Fix) {
         let integral = self.integral.add_sat(error);

@@ -455,6 +455,40 @@ fn a_demand_written_just_before_the_reset_is_dropped_too() {
     assert!(rig.wheel.speed > 900.0, "{}", rig.wheel.speed);
 }
 
+/// A drive leaves its exception from zero output: the speed controller's running output
+/// (reference §7.1: never reset in the original, so a drive stopped at full duty resumed
+/// at it after the reset, decaying ×0.96 a window with no demand) and its integral start
+/// again from 0, so nothing reaches the motor until a demand does. A steer's integral
+/// restarts too, so it holds exactly where it stands.
+#[test]
+fn a_drive_leaves_its_exception_from_zero_output() {
+    let mut rig = DsRig::new();
+    rig.bench.calibrate();
+    rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
+    rig.run_ms(3000);
+    assert!(rig.wheel.speed > 900.0, "{}", rig.wheel.speed);
+    let driving = rig.bench.core.motor(MotorId::M1).pid().control();
+    assert!(driving > Fix::from_num(50), "{driving}");
+    rig.bench.write(REG_EXCEPTIONDATA, 100);
+    rig.run_ms(50);
+    rig.bench.write(REG_RESET, 1);
+    let out = rig.tick();
+    assert_eq!(rig.bench.read(REG_STATUS) & 1, 0, "out of exception");
+    let drive = rig.bench.core.motor(MotorId::M1);
+    assert_eq!(drive.pid().control(), Fix::ZERO);
+    assert_eq!(out.motors[0].duty(), 0);
+    // Through its next updates too: the wheel coasts on, the controller aims for 0 and
+    // pushes against the roll at most (never forward).
+    for _ in 0..600 {
+        let out = rig.tick();
+        assert!(
+            matches!(out.motors[0], MotorOutput::Drive(d) if d.magnitude == 0 || d.direction == Direction::Reverse),
+            "{:?}",
+            out.motors[0]
+        );
+    }
+}
+
 #[test]
 fn control_keeps_the_last_applied_duty_in_exception() {
     let mut rig = LlRig::new();

@@ -350,12 +350,20 @@ fn a_pinged_board_left_silent_stops_its_motors_after_bustimeout() {
     assert_eq!((led1, led2), (200, 200), "no motor: both LEDs");
     assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
     assert_eq!(r.read_raw(id::REG_STATUS), 0x0009);
-    // REG_RESET bit 0 leaves it as any exception, and the drive resumes.
+    // REG_RESET bit 0 leaves it as any exception. The drive does not resume on its own
+    // (its demand dropped, its controller restarted from 0): at most it holds against
+    // the wheel's roll. It drives again on a new demand.
     r.write_raw(id::REG_RESET, 1);
     r.run_us(200_000);
     assert_eq!(r.read_raw(id::REG_STATUS), 0x0008);
     assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), BUSSILENT_DATA);
-    assert!(r.pin(Pin::d(2)), "driving again");
+    assert!(
+        !(r.pin(Pin::d(2)) && r.duty(Pin::d(9)) > 0.0),
+        "no forward drive without a demand"
+    );
+    r.write_value(id::REGDS_DRIVE_REQSPEED, 1000.0);
+    r.run_us(500_000);
+    assert!(r.pin(Pin::d(2)) && r.duty(Pin::d(9)) > 0.0, "driving again");
 }
 
 #[test]

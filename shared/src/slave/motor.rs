@@ -429,15 +429,21 @@ impl Motor {
     }
 
     /// Replaces the demand as an update in exception does (position: required := the
-    /// last measured angle; drive: required := 0): the board does it as it leaves an
+    /// last measured angle; drive: required := 0), and restarts the controller's output
+    /// and integral from 0 ([`Pid::restart`]), with duty 0 until the next update: the
+    /// board does it as it leaves an
     /// exception, since a drive updates only every 150 ms and a demand written in
-    /// exception would otherwise survive a reset that came before the next update.
-    #[inline(always)]
+    /// exception would otherwise survive a reset that came before the next update, and a
+    /// drive would resume at the output it had when it stopped.
+    #[inline(never)]
     pub fn drop_demand(&mut self, kind: Kind) {
         self.params.required = match kind {
             Kind::Position => self.track.pid.last_actual(),
             Kind::Drive => Fix::ZERO,
         };
+        self.track.pid.restart();
+        // The duty of the last update in exception is not applied either.
+        self.demand = Duty::IDLE;
     }
 
     /// The angle of a pot reading, by the calibration ([`Calibration::angle`]). The last
