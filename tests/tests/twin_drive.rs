@@ -151,6 +151,14 @@ fn drive_turn_and_lift_like_the_pc_library() {
 
 /// The numbers of the view's row for `wheel` in the first view printed after `marker`.
 fn row_after(text: &str, marker: &str, wheel: u8) -> Vec<f64> {
+    words_after(text, marker, wheel)
+        .iter()
+        .map(|w| w.parse().unwrap_or(f64::NAN))
+        .collect()
+}
+
+/// [`row_after`]'s six columns as printed.
+fn words_after<'a>(text: &'a str, marker: &str, wheel: u8) -> Vec<&'a str> {
     let start = text
         .find(marker)
         .unwrap_or_else(|| panic!("no {marker:?} in {text}"));
@@ -158,11 +166,7 @@ fn row_after(text: &str, marker: &str, wheel: u8) -> Vec<f64> {
         .lines()
         .find(|l| l.split_whitespace().next() == Some(&wheel.to_string()))
         .unwrap_or_else(|| panic!("no row for wheel {wheel} after {marker:?}"));
-    line.split_whitespace()
-        .skip(1)
-        .take(6)
-        .map(|w| w.parse().unwrap_or(f64::NAN))
-        .collect()
+    line.split_whitespace().skip(1).take(6).collect()
 }
 
 /// Runs `plan` with hostctl's `run` code on `twin`, as the binary does after opening its
@@ -224,13 +228,29 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
     }
     let r = row_after(&text, "> lift 1 20", 1);
     assert!((r[5] - 20.0).abs() <= 2.0, "wheel 1 lift: {r:?}");
-    // After the stop every demand is 0 and nothing raised an exception.
+    // After the stop every demand is 0, in brackets: the stop's own exception dropped
+    // them (a drive aims for 0, a position holds where it stood, and every gain is 0),
+    // and no board is left in an exception.
     let tail = &text[text.rfind("> watch 3").unwrap()..];
     for w in 1..=6 {
-        let r = row_after(tail, "wheel", w);
-        assert_eq!([r[0], r[2], r[4]], [0.0, 0.0, 0.0], "wheel {w}: {r:?}");
+        let r = words_after(tail, "wheel", w);
+        assert_eq!(
+            [r[0], r[2], r[4]],
+            ["(0)", "(0.0)", "(0.0)"],
+            "wheel {w}: {r:?}"
+        );
+        assert!(tail
+            .lines()
+            .any(|l| l.starts_with(&format!("{w} ")) && l.ends_with(" -")));
     }
     assert!(tail.contains("master: no exception"), "{tail}");
+    // The stop left every drive unpowered, so the wheels coast to rest within the watch
+    // (the library's stop alone keeps them under a decaying duty for some 20 s).
+    let last = &tail[tail.rfind("wheel ").unwrap()..];
+    for w in 1..=6 {
+        let r = row_after(last, "wheel", w);
+        assert!(r[1].abs() < 50.0, "wheel {w} still turning: {r:?}");
+    }
 }
 
 #[test]

@@ -8,7 +8,8 @@
 //! program that armed the PC-silence failsafe and then hangs gets every motor stopped; the
 //! status shows each board's LEDs and bridges as the bench would, and what is injected; the
 //! original library's emergency stop, aborted by a silent controller, still stops the rover;
-//! a controller that panics stops the rover before its watchdog reboots it.
+//! a controller that panics stops the rover before its watchdog reboots it; hostctl's
+//! `stop` cuts every bridge and leaves no board in exception.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -609,6 +610,55 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
         (11, 4, 0),
         "SlaveSilent on controller 4"
     );
+}
+
+#[test]
+fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
+    // The library's emergency stop sets every gain and demand to 0, which leaves a
+    // drive's output decaying ×0.96 a 150-ms window under power (reference §7.1). hostctl's
+    // `stop` first sends every controller into REMOTESLAVE (bridges off at its next tick),
+    // then the library's frames, then resets the boards it stopped.
+    let mut s = watched_while_driving();
+    let dir = std::env::temp_dir().join(format!("hostctl-stop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = dir.join("stop.rover");
+    std::fs::write(&script, "stop\n").unwrap();
+    let path = script.display().to_string();
+    let args = ["hostctl", "--settle-ms", "5000", "run", &path];
+    let cli = <hostctl::Cli as clap::Parser>::try_parse_from(args).unwrap();
+    let plan = hostctl::plan(&cli.command).unwrap();
+    let style = hostctl::Style {
+        json: false,
+        in_place: false,
+        width: || None,
+    };
+    let at = s.clock_now();
+    let mut out = Vec::new();
+    hostctl::execute_with_clock(&plan, &mut s.link, style, &mut out, &mut s.clock)
+        .expect("the stop runs");
+    let took = s.clock_now() - at;
+    println!("hostctl stop took {took:?}");
+    // At its end every bridge is off (the library's stop alone left each drive near its
+    // cruising duty), and no board is left in an exception.
+    assert!(every_motor_stopped(&s), "a motor still driven");
+    let snap = s.update();
+    for n in 1..=9 {
+        assert_eq!(
+            slave_exception(&snap, n),
+            None,
+            "controller {n} in exception"
+        );
+    }
+    assert_eq!(master_exception(&snap), 0);
+    // The wheels coast unpowered, and nothing drives them again.
+    s.pass(1.0);
+    assert!(every_motor_stopped(&s), "a motor driven again");
+    let speeds = physical_speeds(&s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning 1 s after the stop: {speeds:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The line of `twin inject status` that starts with `label`.

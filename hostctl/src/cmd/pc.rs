@@ -681,6 +681,39 @@ pub fn reset_exceptions() -> Result<Vec<Op>, HostError> {
     reset_exceptions_of(Pairs::ALL)
 }
 
+/// The first frames of hostctl's `stop`, before the library's emergency stop: a write of
+/// REG_EXCEPTIONDATA to each fitted controller, which raises REMOTESLAVE there and so turns
+/// both its bridges off at its next 1-ms tick. The library's stop alone leaves a drive's
+/// output decaying ×0.96 a 150-ms window under power (its gains go to 0, and the speed
+/// form's u is never reset, reference §7.1): some 20 s from full duty.
+pub fn bridges_off(pairs: Pairs) -> Result<Vec<Op>, HostError> {
+    (1..=9)
+        .filter(|&device| pairs.has_device(device))
+        .map(|device| {
+            write_frame(
+                device,
+                &[Write {
+                    id: id::REG_EXCEPTIONDATA,
+                    raw: 0,
+                }],
+                "REG_EXCEPTIONDATA",
+            )
+        })
+        .collect()
+}
+
+/// REG_RESET = 1 to one controller: it leaves its exception.
+pub fn reset_of(device: u8) -> Result<Op, HostError> {
+    write_frame(
+        device,
+        &[Write {
+            id: id::REG_RESET,
+            raw: 1,
+        }],
+        "REG_RESET",
+    )
+}
+
 /// [`reset_exceptions`] on the pairs fitted.
 pub fn reset_exceptions_of(pairs: Pairs) -> Result<Vec<Op>, HostError> {
     let mut ops = Vec::new();
@@ -714,6 +747,24 @@ mod tests {
                 Op::Pause(_) => None,
             })
             .collect()
+    }
+
+    #[test]
+    fn the_bridges_off_frames_write_exceptiondata_to_each_fitted_controller() {
+        let f = frames(&bridges_off(Pairs::ALL).unwrap());
+        assert_eq!(f.len(), 9);
+        assert_eq!(f[0], "06 12 01 05 00 00");
+        assert_eq!(f[8], "06 92 01 05 00 00");
+        let front = Pairs::parse("0").unwrap();
+        assert_eq!(
+            frames(&bridges_off(front).unwrap()),
+            [
+                "06 12 01 05 00 00",
+                "06 22 01 05 00 00",
+                "06 32 01 05 00 00"
+            ]
+        );
+        assert_eq!(frames(&[reset_of(4).unwrap()]), ["05 42 01 00 01"]);
     }
 
     #[test]

@@ -32,6 +32,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use shared::exception::ExceptionType;
 use shared::regs::{id, Register};
 
 use super::fresh;
@@ -592,6 +593,14 @@ fn act<P: Port>(
             session.dropped.note_sent(send, &line.pc);
         }
         Action::Op(Op::Pause(d)) => clock.sleep(*d),
+        Action::Release => {
+            let now = poller.update(link)?;
+            session.dropped.note(&now, &line.pc);
+            for device in in_remote_exception(&now, line.pc.pairs()) {
+                let reset = Action::Op(pc::reset_of(device)?);
+                act(&reset, link, clock, poller, line, session, output)?;
+            }
+        }
         Action::Say(text) if output.json => {
             let say = event().int("line", number(line)).str("say", text);
             writeln!(output.out, "{}", say.finish()).map_err(HostError::Output)?;
@@ -602,6 +611,21 @@ fn act<P: Port>(
         }
     }
     Ok(())
+}
+
+/// The fitted controllers that `now` shows in REMOTESLAVE: the ones a `stop`'s
+/// REG_EXCEPTIONDATA writes sent there, or the master's spread of another board's fault
+/// (that board keeps its own exception, and the master its). A board in its boot state or
+/// its own fault is left in it; one not read is left as it is.
+fn in_remote_exception(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
+    (1..=9)
+        .filter(|&device| pairs.has_device(device))
+        .filter(|&device| {
+            let in_exception = now.raw(device, id::REG_STATUS).is_some_and(|s| s & 1 == 1);
+            let kind = now.raw(device, id::REG_EXCEPTIONDATA).map(|d| d & 0xff);
+            in_exception && kind == Some(ExceptionType::RemoteSlave as u16)
+        })
+        .collect()
 }
 
 /// Polls update() for `time`, showing the view: redrawn in place on a terminal; otherwise
@@ -802,25 +826,63 @@ mod tests {
 
     #[test]
     fn a_stop_reaches_every_board_after_one_refuses_and_the_line_then_fails() {
-        // Controller 1 refuses its first frame (0x8c: it did not acknowledge); the other 35
-        // frames of the emergency stop still go out, and the line fails naming the refusal.
-        let ran = run_script("stop\nsay after\n", &first_write_refused(35), false);
+        // Controller 1 refuses its first frame (0x8c: it did not acknowledge); the other 44
+        // frames of the stop still go out, and the line fails naming the refusal.
+        let ran = run_script("stop\nsay after\n", &first_write_refused(44), false);
         let stop_frames = &ran.hex[10..];
-        assert_eq!(stop_frames.len(), 36, "{stop_frames:?}");
-        // The last is wheel 6's lift demand: REQPOS 0 to controller 9 (TWO, id 27).
-        assert_eq!(stop_frames[35], "06 92 01 1b ff 7f");
+        assert_eq!(stop_frames.len(), 45, "{stop_frames:?}");
+        // The last is wheel 6's lift demand: REQPOS 0 to controller 9 (TWO, id 27). No
+        // update() and no release follow a refusal: the boards stay in exception.
+        assert_eq!(stop_frames[44], "06 92 01 1b ff 7f");
         let message = ran.result.unwrap_err().to_string();
         assert!(
             message.starts_with(
-                "t.rover line 1 (`stop`) failed: 1 of the line's 36 writes refused, the other 35 \
-                 sent; the first: device 1 refused a write of a parameter block (8 register \
-                 writes;"
+                "t.rover line 1 (`stop`) failed: 1 of the line's 45 writes refused, the other 44 \
+                 sent; the first: device 1 refused the write to REG_EXCEPTIONDATA"
             ),
             "{message}"
         );
         assert!(message.contains("code 0x8c"), "{message}");
         // The script stops there: the next line never runs.
         assert!(!ran.text.contains("after"), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_stop_turns_every_bridge_off_first_and_releases_the_boards_it_stopped() {
+        let mut replies = configure_replies();
+        replies.extend(std::iter::repeat_n(vec![0], 45));
+        // The update() after the library's frames: controllers 1 and 2 in REMOTESLAVE (the
+        // stop's), 4 in its own overcurrent, 5 in its boot state, the rest running.
+        let mut now = update_replies();
+        for (row, status, data) in [
+            (0, 0x09, 0x0503),
+            (1, 0x09, 0x0503),
+            (3, 0x09, 0x0001),
+            (4, 0x09, 0x0502),
+        ] {
+            now[row][4..6].copy_from_slice(&u16::to_le_bytes(status));
+            now[row][6..8].copy_from_slice(&u16::to_le_bytes(data));
+        }
+        replies.extend(now);
+        replies.extend([vec![0], vec![0]]);
+        let ran = run_script("stop\n", &replies, false);
+        ran.result.unwrap();
+        let sent = &ran.hex[10..];
+        // First every controller's REG_EXCEPTIONDATA, then the library's 36 frames.
+        let bridges: Vec<String> = (1..=9).map(|d| format!("06 {d}2 01 05 00 00")).collect();
+        assert_eq!(sent[..9], bridges[..]);
+        assert_eq!(
+            sent[9],
+            "19 12 08 0a 00 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f 32 33 18 fe 19 05"
+        );
+        assert_eq!(sent[44], "06 92 01 1b ff 7f");
+        // One update() (ten reads), then REG_RESET 1 to controllers 1 and 2 only.
+        assert_eq!(sent.len(), 45 + 10 + 2, "{sent:?}");
+        assert_eq!(sent[55..], ["05 12 01 00 01", "05 22 01 00 01"]);
+        // The library's 180-ms pause comes after the bridges' frames (it is the first
+        // step of its stop), and a reset gap before each REG_RESET.
+        assert_eq!(ran.pauses[0], Duration::from_millis(180));
+        assert_eq!(ran.pauses[ran.pauses.len() - 2..], [RESET_GAP, RESET_GAP]);
     }
 
     #[test]

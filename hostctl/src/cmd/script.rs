@@ -13,7 +13,7 @@
 //! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
 //! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
 //! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
-//! | `stop` | The operator's emergency stop (§10.3): 36 frames, every demand 0 |
+//! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
 //! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (read sets 3..6: at most four different register lists, as lines naming the same registers share a set) |
@@ -48,6 +48,9 @@ pub enum Action {
         /// Print one view per second.
         log: bool,
     },
+    /// The end of a `stop`: each controller its REG_EXCEPTIONDATA write left in
+    /// REMOTESLAVE leaves it again (REG_RESET bit 0), found by one update().
+    Release,
     /// Print a line.
     Say(String),
     /// Add registers of a device to every later live view (each such line takes one of the
@@ -467,7 +470,12 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
     match words.as_slice() {
         ["reset"] => Ok(ops(pc::reset_exceptions_of(pc.pairs())?)),
         ["calibrate"] => Ok(ops(pc.calibrate()?)),
-        ["stop"] => Ok(ops(pc.emergency_stop()?)),
+        ["stop"] => {
+            let mut stop = ops(pc::bridges_off(pc.pairs())?);
+            stop.extend(ops(pc.emergency_stop()?));
+            stop.push(Action::Release);
+            Ok(stop)
+        }
         ["write", dev, reg, value] => {
             let plan = write::plan(&write::Args {
                 device: (*dev).to_owned(),
