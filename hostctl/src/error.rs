@@ -75,6 +75,19 @@ pub enum HostError {
         allowed: Allowed,
     },
 
+    /// A value above 0 that the register's mapping truncates to 0: it would be sent as 0.
+    #[error("{given} is finer than {} can carry: it would arrive as 0 (its values run {} in {steps} steps); write 0, or {step} or more", .allowed.place(), .allowed.span())]
+    BelowStep {
+        /// The value as given.
+        given: String,
+        /// What the register allows.
+        allowed: Allowed,
+        /// The smallest value above 0 the register carries, rounded up to two digits.
+        step: String,
+        /// How many steps its range holds.
+        steps: u32,
+    },
+
     /// A fraction for a register that holds whole numbers (an unmapped one).
     #[error("{value} is not a whole number, but {} holds whole numbers {}; give one, e.g. {example}", .allowed.place(), .allowed.span())]
     NotWhole {

@@ -233,7 +233,20 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
             example: value.trunc(),
         });
     }
-    Ok((value, mapping::map(value, reg)))
+    let raw = mapping::map(value, reg);
+    // A value the mapping truncates to the register's 0 would be sent as "off" without a
+    // word: a gain of 0.0001 on a register whose step is 0.00015.
+    if value != 0.0 && mapping::unmap(raw, reg) == 0.0 {
+        if let Some(step) = step_above_zero(reg) {
+            return Err(HostError::BelowStep {
+                given: given.to_owned(),
+                allowed: bounds,
+                step: round_up(step),
+                steps: mapping::full_scale(reg.size),
+            });
+        }
+    }
+    Ok((value, raw))
 }
 
 /// What a slave makes of a register's value, where that is not the unmapped value.
@@ -349,6 +362,41 @@ impl Limit {
     }
 }
 
+/// The decimals that tell one raw value of a mapped register from the next: at least 3,
+/// more for a fine step (a gain on 0..10 in 65,534 steps of 0.00015 shows 4, so its raw 2
+/// reads 0.0003, not 0.000), at most 6.
+pub fn decimals(reg: &Register) -> usize {
+    let Some(range) = reg.range else {
+        return 0;
+    };
+    let step = f64::from(range.max - range.min) / f64::from(mapping::full_scale(reg.size));
+    let needed = (-step.log10()).ceil();
+    // A step of 1 or more needs none; NaN (an empty range) falls to the minimum.
+    if needed.is_nan() || needed < 3.0 {
+        3
+    } else {
+        (needed as usize).min(6)
+    }
+}
+
+/// The smallest value above 0 that `reg` carries: one raw step above its low end, for a
+/// register whose range starts at 0. `None` for other ranges (their 0 is not a raw value's
+/// own) and for unmapped registers.
+pub fn step_above_zero(reg: &Register) -> Option<f32> {
+    let range = reg.range.filter(|r| r.min == 0.0)?;
+    Some(mapping::unmap(1, reg)).filter(|_| range.max > 0.0)
+}
+
+/// `x` (> 0) rounded up to two significant digits, as text: a value to type that is not
+/// below `x` (0.00015259 → 0.00016).
+fn round_up(x: f32) -> String {
+    let x = f64::from(x);
+    let exponent = x.log10().floor() as i32 - 1;
+    let scale = 10f64.powi(exponent);
+    let decimals = usize::try_from(-exponent).unwrap_or(0);
+    format!("{:.*}", decimals, (x / scale).ceil() * scale)
+}
+
 /// Whether `raw` of `reg` is a reading at an end of the register's range. A read-only
 /// mapped register holds a value the board (or the master) measured and mapped with
 /// clamping (reference §3), so its ends stand for "this or beyond": a board at 110 °C
@@ -365,17 +413,18 @@ pub fn limit_of(reg: &Register, raw: u16) -> Option<Limit> {
     }
 }
 
-/// A register's value for people: unmapped registers as integers, mapped ones with three
-/// decimals, a reading at its range's end with "≥" or "≤" ([`limit_of`]).
+/// A register's value for people: unmapped registers as integers, mapped ones with the
+/// decimals [`decimals`] gives, a reading at its range's end with "≥" or "≤"
+/// ([`limit_of`]).
 pub fn show(reg: &Register, raw: u16) -> String {
     if reg.range.is_none() {
         return raw.to_string();
     }
-    let text = format!("{:.3}", mapping::unmap(raw, reg));
-    let text = if text == "-0.000" {
-        "0.000".to_owned()
-    } else {
-        text
+    let text = format!("{:.*}", decimals(reg), mapping::unmap(raw, reg));
+    // A value that rounds to zero shows as 0, not -0.
+    let text = match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
+        _ => text,
     };
     match limit_of(reg, raw) {
         Some(limit) => format!("{}{text}", limit.sign()),
@@ -605,6 +654,30 @@ mod tests {
             value(ds(), speed, "fast"),
             Err(HostError::BadValue { ref given }) if given == "fast"
         ));
+    }
+
+    #[test]
+    fn a_fine_step_is_shown_and_a_value_below_it_refused() {
+        let pgain = register(ds(), "drive_pgain").unwrap();
+        // 0..10 in 65,534 steps of 0.000153: four decimals, so raw 2 is not 0.000.
+        assert_eq!(decimals(pgain), 4);
+        assert_eq!(show(pgain, 2), "0.0003");
+        assert_eq!(show(pgain, 0), "0.0000");
+        assert_eq!(show(pgain, 0x41), "0.0099");
+        // ±4000 in steps of 0.12: three, as before.
+        let speed = register(ds(), "drive_reqspeed").unwrap();
+        assert_eq!(decimals(speed), 3);
+        assert_eq!(show(speed, 0x7fff), "0.000");
+        // A gain above 0 that would arrive as 0 is refused; one step is taken.
+        assert_eq!(
+            value(ds(), pgain, "0.0001").unwrap_err().to_string(),
+            "0.0001 is finer than REGDS_DRIVE_PGAIN on device 1 can carry: it would arrive \
+             as 0 (its values run 0..10 in 65534 steps); write 0, or 0.00016 or more"
+        );
+        assert_eq!(value(ds(), pgain, "0.00016").unwrap(), (0.00016, 1));
+        assert_eq!(value(ds(), pgain, "0").unwrap(), (0.0, 0));
+        // A signed range has no such floor: 0.05 ticks/s arrives as the step nearest.
+        assert!(value(ds(), speed, "0.05").is_ok());
     }
 
     #[test]
