@@ -57,6 +57,16 @@ fn physical_speeds(s: &Session) -> Vec<f64> {
         .collect()
 }
 
+/// Lets `secs` of emulated time pass, then checks every wheel below 50 ticks/s.
+fn all_at_rest_after(s: &mut Session, secs: f64) {
+    s.pass(secs);
+    let speeds = physical_speeds(s);
+    assert!(
+        speeds.iter().all(|v| v.abs() < 50.0),
+        "still turning: {speeds:?}"
+    );
+}
+
 /// The master's exception as (type, slave, motor).
 fn split(data: u16) -> (u16, u16, u16) {
     (data & 0xff, (data >> 8) & 0xf, data >> 12)
@@ -86,12 +96,7 @@ fn a_stalled_wheel_raises_its_fault_on_the_master_and_every_motor_stops() {
             .all(|n| slave_exception(s, n) == Some(3))
     });
     assert!(ok, "not spread: {snap:?}");
-    s.pass(3.0);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 3.0);
 }
 
 #[test]
@@ -160,12 +165,7 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
             && cut <= Duration::from_millis(2_500) + coast + Duration::from_millis(100),
         "wheel 4 stopped after {cut:?} (others coasted for {coast:?})"
     );
-    s.pass(0.5);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 0.5);
     // Back on the bus, it answers again.
     s.twin.borrow_mut().restore(5).unwrap();
     s.pass(0.1);
@@ -301,12 +301,7 @@ fn a_current_spike_raises_a_short_and_stops_the_rover() {
     // Wheel 2's drive is controller 2, motor 0; at a duty below 250 the overcurrent rule
     // calls it SHORTOC (8).
     assert_eq!(split(master_exception(&snap)), (8, 2, 0));
-    s.pass(3.0);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 3.0);
 }
 
 #[test]
@@ -422,12 +417,7 @@ fn a_pc_program_that_armed_the_silence_failsafe_and_hangs_gets_every_motor_stopp
         "stopped before the timeout: {waited_ms} ms"
     );
     println!("PC silent: every motor's PWM at 0 after {waited_ms} ms (timeout 500 ms)");
-    s.pass(3.0);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 3.0);
     // When the program comes back it finds why: PCSILENT on the master, every slave in
     // REMOTESLAVE.
     let snap = s.update();
@@ -497,12 +487,7 @@ fn from_a_slave_fault_to_every_motor_stopped() {
     );
     assert!(local <= 2_000, "{local} us");
     assert!(all <= 1_100_000, "{all} us");
-    s.pass(3.0);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 3.0);
 }
 
 #[test]
@@ -558,12 +543,7 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
         "SlaveSilent on the cut board"
     );
     // The cut board's own bus-silence stop ends its wheel too (BUSTIMEOUT, 2.5 s).
-    s.pass(3.5);
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning: {speeds:?}"
-    );
+    all_at_rest_after(&mut s, 3.5);
 }
 
 #[test]
@@ -651,13 +631,8 @@ fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
     }
     assert_eq!(master_exception(&snap), 0);
     // The wheels coast unpowered, and nothing drives them again.
-    s.pass(1.0);
+    all_at_rest_after(&mut s, 1.0);
     assert!(every_motor_stopped(&s), "a motor driven again");
-    let speeds = physical_speeds(&s);
-    assert!(
-        speeds.iter().all(|v| v.abs() < 50.0),
-        "still turning 1 s after the stop: {speeds:?}"
-    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
