@@ -250,6 +250,18 @@ impl Avr {
         self.raw.as_ptr()
     }
 
+    /// Sends the CPU to `address` (a byte address in flash, as [`Avr::symbol`] gives it)
+    /// between two instructions, stepping it awake first if it sleeps: a fault injected
+    /// into the firmware, e.g. a jump to its panic handler. The interrupted code's state is
+    /// never returned to, so the target must not return either.
+    pub fn jump_to(&mut self, address: u32) {
+        while self.state() == CpuState::Sleeping {
+            self.step();
+        }
+        // SAFETY: a plain field write to the live core between two instructions.
+        unsafe { (*self.raw.as_ptr()).pc = address };
+    }
+
     /// Emulated clock cycles since load (monotonic across watchdog resets).
     pub fn cycles(&self) -> u64 {
         self.shared.now()

@@ -6,7 +6,7 @@
 
 mod master_support;
 
-use harness::{Avr, CpuState, Pin};
+use harness::{Avr, Pin};
 use master_support::Rig;
 
 /// Whether the CPU has interrupts enabled (SREG's I bit, which the emulator keeps
@@ -30,12 +30,7 @@ fn a_panic_freezes_the_master_and_its_reboot_hard_resets_every_slave() {
             .symbol_containing("__vector_default")
             .expect("the panic entry is in the image");
         println!("panic entry {name} at {entry:#06x}");
-        while avr.state() == CpuState::Sleeping {
-            avr.step();
-        }
-        // SAFETY: a plain field write to the live core between two instructions; the
-        // panic never returns, so the interrupted code's state is never used again.
-        unsafe { (*avr.as_ptr()).pc = entry };
+        avr.jump_to(entry);
     }
     let at = rig.micros();
     rig.run_us(1_000);

@@ -7,7 +7,7 @@
 
 mod slave_support;
 
-use harness::{Avr, CpuState, Pin};
+use harness::{Avr, Pin};
 use shared::regs::id;
 use slave_support::{rig, Rig, DRIVE_GAINS, LIFT_GAINS_WHEEL_1, STEER_GAINS_WHEEL_1};
 
@@ -65,13 +65,7 @@ fn force_panic(r: &mut Rig) -> u64 {
     let handler = avr
         .symbol("__vector_default")
         .expect("the handler is in the image");
-    // Not asleep: a set PC takes effect at the next instruction.
-    while avr.state() == CpuState::Sleeping {
-        avr.step();
-    }
-    // SAFETY: a plain field write to the live core between two instructions; the
-    // handler never returns, so the interrupted code's state is never used again.
-    unsafe { (*avr.as_ptr()).pc = handler };
+    avr.jump_to(handler);
     let start = avr.cycles();
     while !(motor_pins_low(&avr) && duty(&avr, Pin::d(9)) == 0.0 && duty(&avr, Pin::d(10)) == 0.0) {
         assert!(avr.cycles() - start < 1_000, "motors still on");

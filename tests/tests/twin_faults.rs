@@ -562,12 +562,7 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
         let handler = avr
             .symbol("__vector_default")
             .expect("the handler is in the image");
-        while avr.state() == harness::CpuState::Sleeping {
-            avr.step();
-        }
-        // SAFETY: a plain field write to the live core between two instructions; the
-        // handler never returns, so the interrupted code's state is never used again.
-        unsafe { (*avr.as_ptr()).pc = handler };
+        avr.jump_to(handler);
     }
     // No PC traffic: the master's once-a-second ping alone must find it.
     let mut stopped = None;

@@ -702,37 +702,23 @@ pub fn bridges_off(pairs: Pairs) -> Result<Vec<Op>, HostError> {
         .collect()
 }
 
-/// REG_RESET = 1 to one controller: it leaves its exception.
+/// REG_RESET = 1 to one device (REGMASTER_RESET on the master): it leaves its exception.
 pub fn reset_of(device: u8) -> Result<Op, HostError> {
-    write_frame(
-        device,
-        &[Write {
-            id: id::REG_RESET,
-            raw: 1,
-        }],
-        "REG_RESET",
-    )
+    let reg = if device == 0 {
+        id::REGMASTER_RESET
+    } else {
+        id::REG_RESET
+    };
+    write_frame(device, &[Write { id: reg, raw: 1 }], "REG_RESET")
 }
 
 /// [`reset_exceptions`] on the pairs fitted.
 pub fn reset_exceptions_of(pairs: Pairs) -> Result<Vec<Op>, HostError> {
-    let mut ops = Vec::new();
-    for device in [1, 2, 3, 4, 5, 6, 7, 8, 9, 0] {
-        if !pairs.has_device(device) {
-            continue;
-        }
-        let reg = if device == 0 {
-            id::REGMASTER_RESET
-        } else {
-            id::REG_RESET
-        };
-        ops.push(write_frame(
-            device,
-            &[Write { id: reg, raw: 1 }],
-            "REG_RESET",
-        )?);
-    }
-    Ok(ops)
+    [1, 2, 3, 4, 5, 6, 7, 8, 9, 0]
+        .into_iter()
+        .filter(|&device| pairs.has_device(device))
+        .map(reset_of)
+        .collect()
 }
 
 #[cfg(test)]

@@ -621,9 +621,7 @@ fn in_remote_exception(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
     (1..=9)
         .filter(|&device| pairs.has_device(device))
         .filter(|&device| {
-            let in_exception = now.raw(device, id::REG_STATUS).is_some_and(|s| s & 1 == 1);
-            let kind = now.raw(device, id::REG_EXCEPTIONDATA).map(|d| d & 0xff);
-            in_exception && kind == Some(ExceptionType::RemoteSlave as u16)
+            slave_exception(now, device).is_some_and(|e| e.code == ExceptionType::RemoteSlave as u8)
         })
         .collect()
 }

@@ -576,14 +576,15 @@ impl<B: Board> Core<B> {
     #[inline(never)]
     fn handle(&mut self, event: Event) {
         if self.state.handle(event, self.disabled()) == Transition::Left {
-            // Leaving the exception drops both demands, as an update in exception does
-            // ([`Motor::drop_demand`]): a demand written in exception, or one from before
-            // it, never survives the reset, even where no update came between (a drive
-            // updates every 150 ms). A demand written after the reset is kept.
+            // Leaving the exception drops both demands, as an update in exception does, and
+            // restarts both controllers from 0 ([`Motor::leave_exception`]): a demand written
+            // in exception, or one from before it, never survives the reset, even where no
+            // update came between (a drive updates every 150 ms), and no drive resumes at
+            // its old output. A demand written after the reset is kept.
             let variant = self.board.variant();
             let [m1, m2] = &mut self.motors;
-            m1.drop_demand(Kind::of(variant, MotorId::M1));
-            m2.drop_demand(Kind::of(variant, MotorId::M2));
+            m1.leave_exception(Kind::of(variant, MotorId::M1));
+            m2.leave_exception(Kind::of(variant, MotorId::M2));
         }
     }
 

@@ -436,7 +436,7 @@ impl Motor {
     /// exception would otherwise survive a reset that came before the next update, and a
     /// drive would resume at the output it had when it stopped.
     #[inline(never)]
-    pub fn drop_demand(&mut self, kind: Kind) {
+    pub fn leave_exception(&mut self, kind: Kind) {
         self.params.required = match kind {
             Kind::Position => self.track.pid.last_actual(),
             Kind::Drive => Fix::ZERO,
