@@ -307,15 +307,25 @@ fn actual_text(s: &Snapshot, wheel: u8, motor: Motor, decimals: usize) -> String
     )
 }
 
-/// The value of `reg` of `device` with `decimals` ("?" when not read), marked "≥" or "≤"
-/// at its range's end, which holds any reading beyond it ([`resolve::limit_of`]).
-fn reading(s: &Snapshot, device: u8, reg: u8, decimals: usize) -> String {
-    let text = cell(s.value(device, reg), decimals);
-    let limit = BoardKind::of_device(device)
+/// Which end of its range [`actual`] sits at, if it does ([`limit`]).
+pub(crate) fn actual_limit(s: &Snapshot, wheel: u8, motor: Motor) -> Option<resolve::Limit> {
+    limit(s, device_of(wheel, motor), actual_register(wheel, motor))
+}
+
+/// Which end of its range `reg` of `device` reads at, if it does: that end holds any
+/// reading beyond it ([`resolve::limit_of`]).
+fn limit(s: &Snapshot, device: u8, reg: u8) -> Option<resolve::Limit> {
+    BoardKind::of_device(device)
         .and_then(|kind| kind.register(reg))
         .zip(s.raw(device, reg))
-        .and_then(|(register, raw)| resolve::limit_of(register, raw));
-    match limit {
+        .and_then(|(register, raw)| resolve::limit_of(register, raw))
+}
+
+/// The value of `reg` of `device` with `decimals` ("?" when not read), marked "≥" or "≤"
+/// at its range's end, which holds any reading beyond it ([`limit`]).
+fn reading(s: &Snapshot, device: u8, reg: u8, decimals: usize) -> String {
+    let text = cell(s.value(device, reg), decimals);
+    match limit(s, device, reg) {
         Some(limit) => format!("{}{text}", limit.sign()),
         None => text,
     }
@@ -879,6 +889,36 @@ mod tests {
             master_line(&Snapshot::new(vec![(0, master)])),
             "master: no exception; °C ambient 21.5, boards 0.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0 0.0"
         );
+    }
+
+    #[test]
+    fn an_actual_at_its_ranges_end_is_marked_with_that_end() {
+        // Wheel 1: drive and steer on controller 1, lift on controller 3 (its motor ONE).
+        let s = Snapshot::new(vec![
+            (
+                1,
+                vec![
+                    (id::REGDS_DRIVE_ACTUALSPEED, 0xfffe),
+                    (id::REGDS_STEER_ACTUALPOS, 0x8000),
+                ],
+            ),
+            (3, vec![(id::REGLL_ONE_ACTUALPOS, 0)]),
+        ]);
+        assert_eq!(
+            actual_limit(&s, 1, Motor::Drive),
+            Some(resolve::Limit::Upper)
+        );
+        assert_eq!(actual_limit(&s, 1, Motor::Steer), None);
+        assert_eq!(
+            actual_limit(&s, 1, Motor::Lift),
+            Some(resolve::Limit::Lower)
+        );
+        // Not read: no end to be at.
+        assert_eq!(actual_limit(&s, 2, Motor::Drive), None);
+        // The text view marks the same two.
+        assert_eq!(actual_text(&s, 1, Motor::Drive, 0), "≥4000");
+        assert_eq!(actual_text(&s, 1, Motor::Steer, 1), "0.0");
+        assert_eq!(actual_text(&s, 1, Motor::Lift, 1), "≤-200.0");
     }
 
     #[test]

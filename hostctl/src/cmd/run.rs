@@ -13,7 +13,8 @@
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`,
 //! `updates`, `rate`, `wheels` with required (null: none sent this session), actual,
-//! calibrated and `exception` per motor (its board's, taken apart: type, name, the motor
+//! calibrated, `at_limit` ("lower" or "upper", only when actual reads at its range's end,
+//! which holds any value beyond it) and `exception` per motor (its board's, taken apart: type, name, the motor
 //! it names and that motor's wheel, text; null: none; a board in exception stops both its
 //! motors) and the wheel's exceptions in words (null: none),
 //! `master_exception` (the raw value; null when its reply was lost), `no_answer` (the
@@ -37,8 +38,8 @@ use shared::regs::{id, Register};
 
 use super::fresh;
 use super::live::{
-    actual, master_json, master_line, raised, slave_exception, view_lines, wheel_exceptions,
-    Dropped, Poller, Snapshot, NOT_DEGREES,
+    actual, actual_limit, master_json, master_line, raised, slave_exception, view_lines,
+    wheel_exceptions, Dropped, Poller, Snapshot, NOT_DEGREES,
 };
 use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
@@ -490,6 +491,11 @@ fn view_json(
                 .num("required", line.pc.demand(wheel, m).unwrap_or(f32::NAN))
                 .num("actual", actual(s, wheel, m).unwrap_or(f32::NAN))
                 .bool("calibrated", dropped.calibrated(&line.pc, wheel, m));
+            // A reading at its range's end holds any value beyond it, as `read --json` says.
+            let required = match actual_limit(s, wheel, m) {
+                Some(limit) => required.str("at_limit", limit.name()),
+                None => required,
+            };
             // An exception dropped the demand: the board no longer aims for it.
             let required = if line.pc.demand(wheel, m).is_some() && dropped.has(&line.pc, wheel, m)
             {
@@ -1412,10 +1418,11 @@ write 4 reset 2
         );
         // All-zero replies unmap to the bottom of each range; wheel 1 was asked for 1000
         // while its board was in its boot exception (no `reset`), so it is dropped; nothing
-        // else was sent (null). No `calibrate`: the positions are not degrees.
+        // else was sent (null). No `calibrate`: the positions are not degrees. Raw 0 is each
+        // range's low end, so every actual is marked at_limit.
         let wheel = |n: u8, drive: &str, dropped: &str| {
             format!(
-                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true{dropped},"exception":null}},"steer":{{"required":null,"actual":-200,"calibrated":false,"exception":null}},"lift":{{"required":null,"actual":-200,"calibrated":false,"exception":null}},"exceptions":null}}"#
+                r#"{{"wheel":{n},"drive":{{"required":{drive},"actual":-4000,"calibrated":true,"at_limit":"lower"{dropped},"exception":null}},"steer":{{"required":null,"actual":-200,"calibrated":false,"at_limit":"lower","exception":null}},"lift":{{"required":null,"actual":-200,"calibrated":false,"at_limit":"lower","exception":null}},"exceptions":null}}"#
             )
         };
         let wheels: Vec<String> = (1..=6)
