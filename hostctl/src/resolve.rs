@@ -676,8 +676,9 @@ mod tests {
         );
         assert_eq!(value(ds(), pgain, "0.00016").unwrap(), (0.00016, 1));
         assert_eq!(value(ds(), pgain, "0").unwrap(), (0.0, 0));
-        // A signed range has no such floor: 0.05 ticks/s arrives as the step nearest.
-        assert!(value(ds(), speed, "0.05").is_ok());
+        // A signed range has no such floor: 0.05 ticks/s arrives as the step below it,
+        // raw 0x7fff, which is 0 on ±4000.
+        assert_eq!(value(ds(), speed, "0.05").unwrap(), (0.05, 0x7fff));
     }
 
     #[test]

@@ -469,14 +469,25 @@ fn a_drive_leaves_its_exception_from_zero_output() {
     assert!(rig.wheel.speed > 900.0, "{}", rig.wheel.speed);
     let driving = rig.bench.core.motor(MotorId::M1).pid().control();
     assert!(driving > Fix::from_num(50), "{driving}");
+    // The steer on its way to 40° (an I-only controller): its integral is built up.
+    rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
+    rig.run_ms(100);
+    let steering = rig.bench.core.motor(MotorId::M2).pid().integral();
+    assert!(steering > Fix::from_num(100), "{steering}");
     rig.bench.write(REG_EXCEPTIONDATA, 100);
     rig.run_ms(50);
+    // Held in exception, the integral only decays (e is 0): still there at the reset.
+    let held = rig.bench.core.motor(MotorId::M2).pid().integral();
+    assert!(held > Fix::from_num(1), "{held}");
     rig.bench.write(REG_RESET, 1);
     let out = rig.tick();
     assert_eq!(rig.bench.read(REG_STATUS) & 1, 0, "out of exception");
     let drive = rig.bench.core.motor(MotorId::M1);
     assert_eq!(drive.pid().control(), Fix::ZERO);
     assert_eq!(out.motors[0].duty(), 0);
+    let steer = rig.bench.core.motor(MotorId::M2);
+    assert_eq!(steer.pid().integral(), Fix::ZERO);
+    assert_eq!(out.motors[1].duty(), 0, "the steer holds where it stands");
     // Through its next updates too: the wheel coasts on, the controller aims for 0 and
     // pushes against the roll at most (never forward).
     for _ in 0..600 {
@@ -486,6 +497,30 @@ fn a_drive_leaves_its_exception_from_zero_output() {
             "{:?}",
             out.motors[0]
         );
+    }
+}
+
+/// The same on a lift board: a lift stopped by an exception on its way comes back out of
+/// it holding where it stands, not pushed on by the integral it had built.
+#[test]
+fn a_lift_leaves_its_exception_from_zero_output() {
+    let mut rig = LlRig::new();
+    rig.bench.calibrate();
+    rig.bench.write_value(REGLL_ONE_REQPOS, 60.0);
+    rig.bench.write_value(REGLL_TWO_REQPOS, -60.0);
+    rig.run_ms(100);
+    for m in [MotorId::M1, MotorId::M2] {
+        let built = rig.bench.core.motor(m).pid().integral().abs();
+        assert!(built > Fix::from_num(10), "{m:?}: {built}");
+    }
+    rig.bench.write(REG_EXCEPTIONDATA, 100);
+    rig.run_ms(5);
+    rig.bench.write(REG_RESET, 1);
+    let out = rig.tick();
+    assert_eq!(rig.bench.read(REG_STATUS) & 1, 0, "out of exception");
+    for (i, m) in [MotorId::M1, MotorId::M2].into_iter().enumerate() {
+        assert_eq!(rig.bench.core.motor(m).pid().integral(), Fix::ZERO, "{m:?}");
+        assert_eq!(out.motors[i].duty(), 0, "{m:?}");
     }
 }
 

@@ -158,8 +158,19 @@ mod tests {
             }
         }
         assert_eq!(seen, 18, "nine boards, two slots each");
-        assert_eq!(wheel_of(3, Motor::M2), Some((2, Axis::Lift)));
-        assert_eq!(wheel_of(5, Motor::M2), Some((4, Axis::Steer)));
+        // Every slot against reference §1's wheel table, written out.
+        use Axis::{Drive as D, Lift as L, Steer as S};
+        let table: Vec<_> = CONTROLLERS
+            .flat_map(|n| [Motor::M1, Motor::M2].map(|m| wheel_of(n, m)))
+            .collect();
+        #[rustfmt::skip]
+        let expected = [
+            (1, D), (1, S), (2, D), (2, S), (1, L), (2, L), // controllers 1, 2, 3
+            (3, D), (3, S), (4, D), (4, S), (3, L), (4, L), // 4, 5, 6
+            (5, D), (5, S), (6, D), (6, S), (5, L), (6, L), // 7, 8, 9
+        ]
+        .map(Some);
+        assert_eq!(table, expected);
         assert_eq!(wheel_of(0, Motor::M1), None);
         assert_eq!(wheel_of(10, Motor::M1), None);
     }
