@@ -71,6 +71,9 @@ pub(crate) struct Shared {
     pub deadline: Cell<Option<u64>>,
     /// Pin changes set ahead ([`Avr::set_pin_at`]), in the order they are due.
     pub pin_changes: RefCell<VecDeque<crate::pin_timer::PinChange>>,
+    /// Another device holds the chip's I²C clock low: a master chip's TWINT does not rise
+    /// (see [`crate::twi::port::gate_twint`]).
+    pub scl_held: Cell<bool>,
 }
 
 /// Recorded (cycle, level) changes per (port letter, bit).
@@ -226,6 +229,7 @@ impl Avr {
             trace_irqs: RefCell::new(HashMap::new()),
             deadline: Cell::new(None),
             pin_changes: RefCell::new(VecDeque::new()),
+            scl_held: Cell::new(false),
         });
         let mut avr = Avr {
             raw,
@@ -260,6 +264,27 @@ impl Avr {
         }
         // SAFETY: a plain field write to the live core between two instructions.
         unsafe { (*self.raw.as_ptr()).pc = address };
+    }
+
+    /// Hangs the CPU, as firmware stuck in a loop with interrupts off: the I flag is cleared
+    /// and the CPU sent to a one-instruction loop (`rjmp .`) put in the last flash word,
+    /// which is the bootloader's and holds nothing of the images here. Peripherals run on
+    /// (a TWI that takes its address holds SCL low); only a reset ends it, the watchdog's
+    /// if the firmware runs one.
+    pub fn hang(&mut self) {
+        const LOOP_AT: u32 = 0x7FFE;
+        const RJMP_SELF: [u8; 2] = 0xCFFFu16.to_le_bytes();
+        // Awake first: a sleeping CPU with its I flag clear would never wake.
+        self.jump_to(LOOP_AT);
+        // SAFETY: plain writes to the live core between two instructions: two bytes inside
+        // its 32-KB flash, and its I flag (simavr keeps SREG as one byte per bit).
+        unsafe {
+            let p = self.raw.as_ptr();
+            let at = LOOP_AT as usize;
+            *(*p).flash.add(at) = RJMP_SELF[0];
+            *(*p).flash.add(at + 1) = RJMP_SELF[1];
+            (*p).sreg[ffi::S_I as usize] = 0;
+        }
     }
 
     /// Emulated clock cycles since load (monotonic across watchdog resets).

@@ -21,7 +21,9 @@
 //!
 //! **Faults.** [`Bus::cut`] takes an address off the bus (its device NACKs everything, as if
 //! unplugged) and [`Bus::restore`] puts it back. A slave chip that takes an event but never
-//! answers costs a bounded wait ([`Bus::set_answer_timeout_us`]), never a hang.
+//! answers costs a bounded wait ([`Bus::set_answer_timeout_us`]), never a hang of the
+//! emulator; if its TWINT stays set it then holds SCL low ([`Bus::held_by`]), and nothing
+//! moves on the bus until it lets go or resets, checked after every quantum.
 //!
 //! **Trace.** Every START, address, data byte, ACK/NACK and STOP is logged with the initiator's
 //! cycle count ([`Bus::trace`]).
@@ -43,7 +45,7 @@ use std::time::Duration;
 
 use crate::avr::{Shared, CYCLES_PER_US};
 use crate::twi::chip::SlaveChip;
-use crate::twi::port::{Tap, TwiIrqs};
+use crate::twi::port::{gate_twint, Tap, TwiIrqs};
 use crate::twi::{downcast_mut, I2cTarget, TwiError};
 use crate::{Avr, HarnessError};
 use engine::{Device, Engine};
@@ -78,6 +80,8 @@ pub struct Bus {
     chips: Vec<Rc<RefCell<Avr>>>,
     /// UART0 bytes taken from each chip by the bus helpers and not returned yet.
     uart_pending: Vec<Vec<u8>>,
+    /// Chip indices of the master chips.
+    masters: Vec<usize>,
     /// Bus time: every chip's clock has reached at least this cycle.
     now: u64,
     quantum: u64,
@@ -103,6 +107,7 @@ impl Bus {
             ))),
             chips: Vec::new(),
             uart_pending: Vec::new(),
+            masters: Vec::new(),
             now: 0,
             quantum: DEFAULT_QUANTUM_US * CYCLES_PER_US,
             peer_bit: peer_bit_cycles(DEFAULT_PEER_KHZ),
@@ -113,6 +118,7 @@ impl Bus {
     /// Puts a chip running master firmware on the bus; returns its chip index.
     pub fn add_master(&mut self, mut avr: Avr) -> Result<usize, TwiError> {
         let irqs = TwiIrqs::find(avr.as_ptr())?;
+        gate_twint(&mut avr);
         let index = self.chips.len();
         let engine = Rc::clone(&self.engine);
         let clock: *const Shared = &*avr.shared;
@@ -120,17 +126,19 @@ impl Bus {
             irqs,
             Box::new(move |msg| {
                 // SAFETY: `clock` is the chip's own `Shared`, boxed and owned by the chip,
-                // which outlives this tap (the bus drops taps first); only its cells are read,
-                // as the chip's own simavr hooks do.
-                let cycle = unsafe { (*clock).now() };
-                engine
-                    .try_borrow_mut()
-                    .ok()?
-                    .on_master_msg(index, msg, cycle)
+                // which outlives this tap (the bus drops taps first); only its cells are
+                // used, as the chip's own simavr hooks do.
+                let shared = unsafe { &*clock };
+                let mut engine = engine.try_borrow_mut().ok()?;
+                let answer = engine.on_master_msg(index, msg, shared.now());
+                // A slave that took this step and kept TWINT set holds the clock from now.
+                shared.scl_held.set(engine.held_by().is_some());
+                answer
             }),
         );
         self.master_taps.push(tap);
         let index = self.push_chip(Rc::new(RefCell::new(avr)));
+        self.masters.push(index);
         self.serial_chips = index + 1;
         Ok(index)
     }
@@ -308,6 +316,29 @@ impl Bus {
                 None => run_chips(&self.chips, next),
             }
             self.now = next;
+            self.release_if_free();
+        }
+    }
+
+    /// The address of the slave chip holding SCL low, if one does: it took a bus event and
+    /// its firmware has not released the bus since (see the [`crate::twi`] docs).
+    pub fn held_by(&self) -> Option<u8> {
+        self.engine.borrow().held_by()
+    }
+
+    /// Ends a hold whose chip has let SCL go, and lets the master chips' TWINT rise again.
+    fn release_if_free(&mut self) {
+        let Ok(mut engine) = self.engine.try_borrow_mut() else {
+            return;
+        };
+        if engine.held_by().is_none() || !engine.release_if_free(self.now) {
+            return;
+        }
+        drop(engine);
+        for &index in &self.masters {
+            if let Ok(avr) = self.chips[index].try_borrow() {
+                avr.shared.scl_held.set(false);
+            }
         }
     }
 

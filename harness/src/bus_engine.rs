@@ -44,6 +44,10 @@ pub(crate) struct Engine {
     pub stop_after_read: bool,
     /// Clock of the last slave chip that answered, or 0.
     pub last_answer: u64,
+    /// The slave chip holding SCL low (device index, address): it took an event and its
+    /// firmware did not release the bus within the bounded wait. Nothing moves on the bus
+    /// until it does ([`Engine::release_if_free`]).
+    held: Option<(usize, u8)>,
 }
 
 impl Engine {
@@ -57,7 +61,33 @@ impl Engine {
             answer_budget,
             stop_after_read: false,
             last_answer: 0,
+            held: None,
         }
+    }
+
+    /// The address of the slave chip holding SCL low, if one does.
+    pub fn held_by(&self) -> Option<u8> {
+        self.held.map(|(_, addr)| addr)
+    }
+
+    /// Ends the hold once its chip lets SCL go (its firmware cleared TWINT, switched the
+    /// TWI off, or the chip reset). The transaction in progress is abandoned: its master
+    /// has given up the step it was waiting for. Returns whether the bus is free of a hold.
+    pub fn release_if_free(&mut self, cycle: u64) -> bool {
+        let Some((device, addr)) = self.held else {
+            return true;
+        };
+        let holds = match self.devices.get(device) {
+            Some(Device::Chip(chip)) => chip.holds_scl(),
+            _ => false,
+        };
+        if holds {
+            return false;
+        }
+        self.held = None;
+        let by = self.active.take().map_or(Initiator::Peer, |a| a.by);
+        self.log(cycle, by, TwiEvent::Released { addr });
+        true
     }
 
     /// True while a transaction (begun by anyone) has not ended with STOP.
@@ -105,6 +135,9 @@ impl Engine {
         };
         let result = chip.deliver(msg, addr, self.answer_budget);
         self.last_answer = self.last_answer.max(chip.cycles());
+        if matches!(result, Err(TwiError::Timeout { .. })) && chip.holds_scl() {
+            self.held = Some((device, addr));
+        }
         result
     }
 
@@ -313,6 +346,11 @@ impl Engine {
 
     /// Handles one message from a master chip's TWI output; returns its answer.
     pub fn on_master_msg(&mut self, chip: usize, msg: TwiMsg, cycle: u64) -> Option<TwiMsg> {
+        // SCL held low: nothing reaches any device, and the master chip's TWINT is held
+        // back (`twi::port::gate_twint`), so this step never completes for it.
+        if self.held.is_some() {
+            return None;
+        }
         let by = Initiator::Chip(chip);
         let ack = |ok: bool| Some(TwiMsg::new(cond::ACK, msg.addr, u8::from(ok)));
         if msg.has(cond::START) {

@@ -100,18 +100,24 @@ impl Bus {
         result
     }
 
-    /// Runs the bus until no other master's transaction is in progress (bounded).
+    /// Runs the bus until no other master's transaction is in progress and no slave chip
+    /// holds SCL low (bounded).
     fn wait_idle(&mut self) -> Result<(), TwiError> {
         let start = self.now;
         let end = start.saturating_add(self.busy_timeout);
         loop {
-            let busy = self.engine.try_borrow().map(|e| e.busy()).unwrap_or(true);
-            if !busy {
+            let (busy, held) = self
+                .engine
+                .try_borrow()
+                .map_or((true, None), |e| (e.busy(), e.held_by()));
+            if !busy && held.is_none() {
                 return Ok(());
             }
             if self.now >= end {
-                return Err(TwiError::BusBusy {
-                    waited_us: (self.now - start) / CYCLES_PER_US,
+                let waited_us = (self.now - start) / CYCLES_PER_US;
+                return Err(match held {
+                    Some(addr) => TwiError::BusHeld { addr, waited_us },
+                    None => TwiError::BusBusy { waited_us },
                 });
             }
             self.advance_to(self.now.saturating_add(self.quantum).min(end));

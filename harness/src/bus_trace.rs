@@ -41,8 +41,15 @@ pub enum TwiEvent {
     },
     /// STOP.
     Stop,
-    /// A slave chip took an event but did not release the bus within the bounded wait.
+    /// A slave chip took an event but did not release the bus within the bounded wait; if
+    /// its TWINT stays set, it holds SCL low from then on, until [`TwiEvent::Released`].
     Timeout {
+        /// 7-bit address of the slave.
+        addr: u8,
+    },
+    /// The slave chip that held SCL low let it go (cleared TWINT, switched its TWI off or
+    /// reset); the transaction it held is abandoned (logged as its initiator's).
+    Released {
         /// 7-bit address of the slave.
         addr: u8,
     },
@@ -90,6 +97,7 @@ impl fmt::Display for TwiEvent {
             TwiEvent::Read { byte, ack: a } => write!(f, "READ  {byte:#04x} {}", ack(a)),
             TwiEvent::Stop => write!(f, "STOP"),
             TwiEvent::Timeout { addr } => write!(f, "TIMEOUT {addr:#04x}"),
+            TwiEvent::Released { addr } => write!(f, "RELEASED {addr:#04x}"),
             TwiEvent::Collision { addr } => write!(f, "COLLISION {addr:#04x}"),
         }
     }

@@ -14,7 +14,14 @@
 //!   data byte, it decides ACK or NACK the moment the output IRQ returns. The bus therefore runs
 //!   the addressed slave chip, inside that call, until its firmware has handled the event (the
 //!   emulated counterpart of clock stretching), with a bounded wait: a slave that never answers
-//!   yields a NACK (for a master chip) or [`TwiError::Timeout`] (for the Rust master), never a hang.
+//!   yields a NACK (for a master chip) or [`TwiError::Timeout`] (for the Rust master), never a
+//!   hang of the emulator.
+//! - **A slave that keeps TWINT set holds SCL low**, as the real TWI does: after that timeout
+//!   nothing moves on the bus until its firmware clears TWINT, switches the TWI off or the chip
+//!   resets. A master chip's TWINT does not rise meanwhile (the step it started never
+//!   completes, so its firmware's own bounded wait must give it up), and the Rust master gets
+//!   [`TwiError::BusHeld`] after its bounded wait. STOP is not held: simavr completes it at
+//!   once.
 //! - **ACK is decided as on real hardware**: a slave chip acknowledges its address when TWEN and
 //!   TWEA are set and TWAR matches, and a data byte when TWEA was set before the byte arrived.
 //!   (simavr still shows the slave firmware status 0x80 for a byte it NACKs, not 0x88.)
@@ -94,8 +101,8 @@ pub enum TwiError {
     /// A slave chip took the event but its firmware did not release the bus in time.
     #[error(
         "device {addr:#04x} did not answer within {waited_us} µs of emulated time; its firmware \
-         is stuck with TWINT set or its CPU halted; if it is only slow, raise \
-         Bus::set_answer_timeout_us"
+         is stuck with TWINT set or its CPU halted, and it holds SCL low until it lets go or \
+         resets; if it is only slow, raise Bus::set_answer_timeout_us"
     )]
     Timeout {
         /// The 7-bit address.
@@ -109,6 +116,18 @@ pub enum TwiError {
          never ended with STOP; check that master's firmware"
     )]
     BusBusy {
+        /// Emulated microseconds waited.
+        waited_us: u64,
+    },
+    /// A slave chip held SCL low for longer than the bounded wait.
+    #[error(
+        "device {addr:#04x} held the bus (SCL low) for {waited_us} µs of emulated time: it \
+         took a bus event and its firmware never cleared TWINT; the bus is free again once \
+         it does, switches its TWI off or resets (e.g. by its watchdog)"
+    )]
+    BusHeld {
+        /// The 7-bit address of the chip holding SCL.
+        addr: u8,
         /// Emulated microseconds waited.
         waited_us: u64,
     },

@@ -15,6 +15,7 @@ const TWCR: u16 = 0xBC;
 /// TWCR bits.
 const TWEN: u8 = 1 << 2;
 const TWEA: u8 = 1 << 6;
+const TWINT: u8 = 1 << 7;
 
 /// How a slave chip's TWI stands towards one address.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -81,6 +82,16 @@ impl SlaveChip {
             .try_borrow()
             .map(|avr| avr.read_data(TWCR) & TWEA != 0)
             .unwrap_or(false)
+    }
+
+    /// Whether the chip's TWI holds SCL low: enabled, with TWINT set (a real slave TWI
+    /// stretches the clock until its firmware clears TWINT). A chip busy elsewhere counts
+    /// as still holding.
+    pub fn holds_scl(&self) -> bool {
+        self.avr.try_borrow().map_or(true, |avr| {
+            let twcr = avr.read_data(TWCR);
+            twcr & TWEN != 0 && twcr & TWINT != 0
+        })
     }
 
     /// The chip's clock in cycles.

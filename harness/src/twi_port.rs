@@ -6,7 +6,12 @@ use std::ffi::c_void;
 use simavr_ffi as ffi;
 
 use super::{TwiError, TwiMsg};
-use crate::avr::ioctl_def;
+use crate::avr::{ioctl_def, Shared};
+use crate::Avr;
+
+/// Data-space address of TWCR, and its TWINT bit.
+const TWCR: u16 = 0xBC;
+const TWINT: u8 = 1 << 7;
 
 /// Handles one message from a chip's TWI output; a returned message is raised on the same
 /// chip's TWI input before the chip continues (the answer a master chip waits for).
@@ -108,5 +113,35 @@ unsafe extern "C" fn on_output(_irq: *mut ffi::avr_irq_t, value: u32, param: *mu
     };
     if let Some(reply) = reply {
         inner.irqs.send(reply);
+    }
+}
+
+/// Makes a master chip's TWINT wait while another device holds SCL low
+/// ([`Shared::scl_held`]): the firmware reads TWCR without it, as a real TWI cannot finish
+/// a START, address or byte on a clock it cannot drive. simavr completes the step in zero
+/// time regardless and stores what this hook returns, so a step begun while the clock was
+/// held never completes: the firmware's own bounded wait must give it up.
+pub(crate) fn gate_twint(avr: &mut Avr) {
+    let param = (&*avr.shared as *const Shared).cast_mut().cast();
+    // SAFETY: the core is live and not running; `param` is its boxed `Shared`, which
+    // lives as long as the core. simavr's TWI registers no read handler on TWCR, and a
+    // second call registers the same handler and parameter, which simavr accepts.
+    unsafe { ffi::avr_register_io_read(avr.as_ptr(), TWCR, Some(read_twcr), param) };
+}
+
+/// simavr's read handler for a master chip's TWCR.
+unsafe extern "C" fn read_twcr(avr: *mut ffi::avr_t, addr: u16, param: *mut c_void) -> u8 {
+    // SAFETY: simavr calls this with its live core and the `Shared` registered in
+    // `gate_twint`; `addr` is TWCR, inside the core's data space.
+    let (shared, value) = unsafe {
+        (
+            &*param.cast::<Shared>(),
+            *(*avr).data.add(usize::from(addr)),
+        )
+    };
+    if shared.scl_held.get() {
+        value & !TWINT
+    } else {
+        value
     }
 }

@@ -22,8 +22,13 @@ fn bus_with_master() -> Bus {
 
 /// Sends one command line to the master fixture and returns its answer line.
 fn command(bus: &mut Bus, line: &str) -> String {
+    command_within(bus, line, ANSWER_US)
+}
+
+/// The same, waiting up to `us` for the answer.
+fn command_within(bus: &mut Bus, line: &str, us: u64) -> String {
     bus.uart_send(0, format!("{line}\n").as_bytes());
-    let answer = bus.uart_read_until(0, b"\n", ANSWER_US).unwrap();
+    let answer = bus.uart_read_until(0, b"\n", us).unwrap();
     String::from_utf8(answer).unwrap()
 }
 
@@ -41,6 +46,37 @@ fn write_gaps(trace: &[TraceEntry]) -> Vec<u64> {
         .map(|e| e.cycle)
         .collect();
     stamps.windows(2).map(|w| w[1] - w[0]).collect()
+}
+
+#[test]
+fn a_slave_that_keeps_twint_set_holds_the_bus_until_it_resets() {
+    let mut bus = bus_with_master();
+    bus.add_slave(slave_at(0x21)).unwrap();
+    let mut stuck = Avr::firmware("fixture_twi_stuck").unwrap();
+    stuck.eeprom_write(0, &[0x30]);
+    let stuck = bus.add_slave(stuck).unwrap();
+    bus.set_answer_timeout_us(300);
+    bus.run_us(2_000);
+    assert_eq!(command(&mut bus, "w 21 00 5a"), "ok\n", "the bus works");
+    // The stuck chip takes its address and never releases SCL: the master's TWINT never
+    // rises, so the fixture gives the step up after its polls.
+    let at = bus.micros();
+    assert_eq!(command_within(&mut bus, "w 30 01", 2_000_000), "err\n");
+    assert_eq!(bus.held_by(), Some(0x30));
+    assert!(bus.micros() - at > 10_000, "it waited out its polls");
+    // Nothing reaches a healthy slave meanwhile, and the bus logs none of it.
+    bus.take_trace();
+    assert_eq!(command_within(&mut bus, "w 21 00 a5", 2_000_000), "err\n");
+    assert_eq!(bus.take_trace(), []);
+    // A reset switches the stuck chip's TWI off: the bus is free and works again.
+    bus.chip(stuck).unwrap().reset();
+    bus.run_us(10);
+    assert_eq!(bus.held_by(), None);
+    assert_eq!(
+        command(&mut bus, "x 21 00 01"),
+        "= 5A\n",
+        "the write while held never landed"
+    );
 }
 
 #[test]

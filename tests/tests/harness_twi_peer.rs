@@ -149,7 +149,27 @@ fn stuck_slave_gives_bounded_timeout() {
         events.contains(&TwiEvent::Timeout { addr: 0x30 }),
         "{events:?}"
     );
-    // The bus is free again: another transaction is answered (NACK: nobody at 0x31).
+    // Its firmware never clears TWINT, so it holds SCL low: no other transaction gets
+    // through, within the peer's bounded wait, until the chip lets go.
+    assert_eq!(bus.held_by(), Some(0x30));
+    bus.set_busy_timeout_us(2_000);
+    assert_eq!(
+        bus.write(0x31, &[]),
+        Err(TwiError::BusHeld {
+            addr: 0x30,
+            waited_us: 2_000
+        })
+    );
+    // A reset (as its watchdog would give it) switches its TWI off: the bus is free again,
+    // and the next transaction is answered (NACK: nobody at 0x31).
+    bus.chip(0).unwrap().reset();
+    bus.run_us(10);
+    assert_eq!(bus.held_by(), None);
+    let released = bus
+        .trace()
+        .iter()
+        .any(|e| e.event == TwiEvent::Released { addr: 0x30 });
+    assert!(released, "the release is logged");
     assert_eq!(
         bus.write(0x31, &[]),
         Err(TwiError::AddressNack { addr: 0x31 })
