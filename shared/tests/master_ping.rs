@@ -635,6 +635,75 @@ fn a_silent_slave_is_raised_again_after_a_master_reset_and_forgotten_when_it_ans
 }
 
 #[test]
+fn a_slave_found_silent_while_the_master_is_in_its_boot_exception_still_stops_the_others() {
+    // A PC program that reset the slaves but not the master: the boot exception stays
+    // latched and refuses SlaveSilent, but the others must stop all the same (the
+    // library's emergency stop gives up at the silent board's 8c).
+    let (mut s, mut latch, mut rover) = never_reset(6_000_000);
+    rover.slaves[4].answering = false;
+    let from = rover.now_us;
+    rover.run(&mut s, &mut latch, from + 40_000);
+    assert_eq!(
+        latch,
+        MasterLatch::boot(),
+        "the boot exception stays latched"
+    );
+    let spread = spread_targets(&rover.actions_between(from, rover.now_us));
+    assert_eq!(
+        spread,
+        [1, 2, 3, 5, 6, 7, 8, 9],
+        "once, when it is found silent"
+    );
+    // Its later failures do not spread again while the latch refuses them.
+    let later = rover.now_us;
+    rover.run(&mut s, &mut latch, later + 500_000);
+    assert!(spread_targets(&rover.actions_between(later, rover.now_us)).is_empty());
+}
+
+/// Every slave is out of reach (a bus held low) for 100 ms, so the master finds one
+/// silent and its spread is lost; then all but slave 4 (or all, `all_back`) answer again.
+fn spread_lost_on_a_held_bus(clear_before_back: bool, all_back: bool) -> (MasterLatch, Rover, u64) {
+    let (mut s, mut latch, mut rover) = booted();
+    rover.run(&mut s, &mut latch, 6_000_000);
+    for d in 1..=9 {
+        rover.slaves[d].answering = false;
+    }
+    rover.run(&mut s, &mut latch, 6_100_000);
+    assert_eq!(latch.data() & 0xff, 11, "SlaveSilent");
+    if clear_before_back {
+        latch.clear();
+    }
+    let back = rover.now_us;
+    for d in (1..=9).filter(|&d| all_back || d != 4) {
+        rover.slaves[d].answering = true;
+        rover.slaves[d].status &= !1;
+    }
+    rover.run(&mut s, &mut latch, back + 40_000);
+    (latch, rover, back)
+}
+
+#[test]
+fn a_spread_the_bus_lost_is_sent_again_when_the_slaves_answer() {
+    let (_, rover, back) = spread_lost_on_a_held_bus(false, false);
+    let again = spread_targets(&rover.actions_between(back, rover.now_us));
+    for d in [1, 2, 3, 5, 6, 7, 8, 9] {
+        assert!(again.contains(&d), "slave {d}: {again:?}");
+        assert_eq!(
+            rover.slaves[usize::from(d)].status & 1,
+            1,
+            "slave {d} stopped"
+        );
+    }
+}
+
+#[test]
+fn a_lost_spread_is_not_sent_again_once_the_pc_has_cleared_the_exception() {
+    let (latch, rover, back) = spread_lost_on_a_held_bus(true, true);
+    assert_eq!(latch.data(), 0, "every slave answers: nothing raised again");
+    assert!(spread_targets(&rover.actions_between(back, rover.now_us)).is_empty());
+}
+
+#[test]
 fn failures_of_pc_relayed_accesses_count_as_evidence() {
     let (mut s, mut latch, _) = booted();
     let mut rover = Rover::new();

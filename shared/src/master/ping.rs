@@ -401,7 +401,17 @@ impl Schedule {
         if answered {
             // Before the settle too: a slave the PC reached is fitted, so one lost before the
             // first ping is found silent by it, not taken for a board never fitted.
-            self.health.answered(device, at);
+            // Back after a failed access while the master holds an exception (not its
+            // boot state): a spread may have missed it (a held bus, a glitch), so the
+            // spread goes out again, to all nine (the one the exception names may have
+            // been lost with the rest; a board in exception already is not changed by it).
+            if self.health.answered(device, at)
+                && latch
+                    .current()
+                    .is_some_and(|e| e.kind != ExceptionType::Boot)
+            {
+                self.spread = Spread::to_all_but(0);
+            }
             return;
         }
         if !self.started {
@@ -411,7 +421,7 @@ impl Schedule {
         match self.health.failed(device, at) {
             Miss::Ignored => {}
             Miss::Recheck => self.recheck = device,
-            Miss::Silent => {
+            miss @ (Miss::NowSilent | Miss::Silent) => {
                 if self.recheck == device {
                     self.recheck = 0;
                 }
@@ -420,7 +430,11 @@ impl Schedule {
                     slave: device,
                     motor: 0,
                 };
-                self.raise(e, latch);
+                // A slave newly found silent stops the others even while the master holds
+                // another exception (its boot state, for one): the latch keeps the first.
+                if latch.raise(e) || miss == Miss::NowSilent {
+                    self.spread = Spread::to_all_but(device);
+                }
             }
         }
     }

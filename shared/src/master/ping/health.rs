@@ -22,7 +22,11 @@ pub(crate) enum Miss {
     Ignored,
     /// The first miss: check the slave again at once.
     Recheck,
-    /// The slave is silent (again): raise SlaveSilent.
+    /// The second miss in a row: the slave is now silent. Raise SlaveSilent and stop
+    /// the others.
+    NowSilent,
+    /// The slave was silent already: raise SlaveSilent (again, if the master's exception
+    /// was cleared meanwhile).
     Silent,
 }
 
@@ -54,13 +58,16 @@ impl Health {
         }
     }
 
-    /// The slave answered an access at `now_ms`.
-    pub fn answered(&mut self, device: u8, now_ms: u16) {
+    /// The slave answered an access at `now_ms`. Returns whether it had failed one since
+    /// it last answered (whatever that access was: a spread write, too).
+    pub fn answered(&mut self, device: u8, now_ms: u16) -> bool {
         let b = bit(device);
+        let failed = (self.missed | self.silent) & b != 0;
         self.present |= b;
         self.missed &= !b;
         self.silent &= !b;
         self.tried(device, now_ms);
+        failed
     }
 
     /// The slave failed to answer an access at `now_ms`.
@@ -75,7 +82,7 @@ impl Health {
         } else if self.missed & b != 0 {
             self.missed &= !b;
             self.silent |= b;
-            Miss::Silent
+            Miss::NowSilent
         } else {
             self.missed |= b;
             Miss::Recheck
