@@ -231,22 +231,22 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
     // After the stop every demand is 0, in brackets: the stop's own exception dropped
     // them (a drive aims for 0, a position holds where it stood, and every gain is 0),
     // and no board is left in an exception.
+    // Each checked in the watch's last view.
     let tail = &text[text.rfind("> watch 3").unwrap()..];
+    let last = &tail[tail.rfind("wheel ").unwrap()..];
     for w in 1..=6 {
-        let r = words_after(tail, "wheel", w);
+        let r = words_after(last, "wheel", w);
         assert_eq!(
             [r[0], r[2], r[4]],
             ["(0)", "(0.0)", "(0.0)"],
             "wheel {w}: {r:?}"
         );
-        assert!(tail
-            .lines()
-            .any(|l| l.starts_with(&format!("{w} ")) && l.ends_with(" -")));
+        let row = last.lines().find(|l| l.starts_with(&format!("{w} ")));
+        assert!(row.is_some_and(|l| l.ends_with(" -")), "wheel {w}: {row:?}");
     }
-    assert!(tail.contains("master: no exception"), "{tail}");
+    assert!(last.contains("master: no exception"), "{last}");
     // The stop left every drive unpowered, so the wheels coast to rest within the watch
     // (the library's stop alone keeps them under a decaying duty for some 20 s).
-    let last = &tail[tail.rfind("wheel ").unwrap()..];
     for w in 1..=6 {
         let r = row_after(last, "wheel", w);
         assert!(r[1].abs() < 50.0, "wheel {w} still turning: {r:?}");

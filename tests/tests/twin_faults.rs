@@ -498,7 +498,6 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
     // off, the library sends one frame and gives up: the master itself must stop the rest.
     let mut s = watched_while_driving();
     let cut = hostctl::cmd::pc::device_of(1, Motor::Drive);
-    s.twin.borrow_mut().cut(cut).unwrap();
     let ops = s.pc.emergency_stop().unwrap();
     let mut sent = 0;
     let mut refused = None;
@@ -506,6 +505,12 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
         match op {
             hostctl::cmd::pc::Op::Pause(d) => s.clock.sleep_for(d),
             hostctl::cmd::pc::Op::Write(w) => {
+                // The board is lost just before the first frame (after the library's
+                // pause), so only that frame can tell the master before its own checks.
+                if sent == 0 {
+                    s.twin.borrow_mut().cut(cut).unwrap();
+                    assert!(!motors_stopped_but(&s, Some(cut)), "the drives are running");
+                }
                 let reply = s.link.transact(w.device, &w.frame, 1).expect("a reply");
                 sent += 1;
                 if reply != [0] {
@@ -521,8 +526,9 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
         "the library gives up at its first frame, which the master answers NoAnswer"
     );
     // The frame's writes all went unanswered, so the master found the board silent at
-    // once and sent every other board into REMOTESLAVE: their motors stop within the
-    // next few ms, though the library never reached them.
+    // once and sent every other board into REMOTESLAVE: their motors stop within a few
+    // ms of the reply, sooner than the master's own checks (one every 2 ms, none more
+    // than 16 ms apart) would have found it, though the library never reached them.
     let at = s.twin.borrow().micros();
     let mut stopped = None;
     while stopped.is_none() && s.twin.borrow().micros() - at < 200_000 {
@@ -536,6 +542,7 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
     println!(
         "library stop aborted at controller {cut}: the other boards stopped {stopped} us later"
     );
+    assert!(stopped <= 5_000, "{stopped} us after the reply");
     let snap = s.update();
     assert_eq!(
         split(master_exception(&snap)),
@@ -550,10 +557,11 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
 fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
     // Controller 4 (wheel 3's drive and steer) takes its panic path while the rover
     // drives: its own motors stop at once, the master's next access finds it silent and
-    // stops the other eight, well before its watchdog reboots it. (The bus here gives up
-    // on a chip that does not answer; on a real bus a TWI left on would hold SCL until
-    // that reboot: `slave_panic` shows the board switches its TWI off instead.)
+    // stops the other eight, well before its watchdog reboots it. (A TWI left on would
+    // hold SCL until that reboot, as `a_controller_that_hangs…` shows; the panic path
+    // switches it off.)
     let mut s = watched_while_driving();
+    assert!(!every_motor_stopped(&s), "the drives are running");
     let at = s.twin.borrow().micros();
     let resets = s.twin.borrow_mut().bus().chip(4).unwrap().watchdog_resets();
     {
@@ -564,7 +572,7 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
             .expect("the handler is in the image");
         avr.jump_to(handler);
     }
-    // No PC traffic: the master's once-a-second ping alone must find it.
+    // No PC traffic: the master's own checks (one every 2 ms) alone must find it.
     let mut stopped = None;
     while stopped.is_none() && s.twin.borrow().micros() - at < 1_500_000 {
         s.twin.borrow_mut().run_us(250).unwrap();
@@ -588,12 +596,54 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
 }
 
 #[test]
+fn a_controller_that_hangs_holds_the_bus_and_every_motor_still_stops() {
+    // Controller 4 (wheel 3's drive and steer) hangs with its interrupts off while the
+    // rover drives. Its TWI still takes its address at the master's next access and then
+    // holds SCL low: no board can be reached until its watchdog reboots it (1 s), and its
+    // own PWM runs on until then. Every motor must be stopped soon after that reboot.
+    let mut s = watched_while_driving();
+    assert!(!every_motor_stopped(&s), "the drives are running");
+    let at = s.twin.borrow().micros();
+    let resets = s.twin.borrow_mut().bus().chip(4).unwrap().watchdog_resets();
+    s.twin.borrow_mut().bus().chip(4).unwrap().hang();
+    let held = s
+        .twin
+        .borrow_mut()
+        .run_until(50_000, 100, |t| t.bus().held_by() == Some(4))
+        .unwrap();
+    assert!(held, "the master's next access to controller 4 is held");
+    let held_at = s.twin.borrow().micros() - at;
+    let mut stopped = None;
+    while stopped.is_none() && s.twin.borrow().micros() - at < 3_000_000 {
+        s.twin.borrow_mut().run_us(1_000).unwrap();
+        if every_motor_stopped(&s) {
+            stopped = Some(s.twin.borrow().micros() - at);
+        }
+    }
+    let rebooted = s.twin.borrow_mut().bus().chip(4).unwrap().watchdog_resets();
+    let stopped = stopped.expect("a motor still driven 3 s after the hang");
+    println!(
+        "controller 4 hung: bus held from {held_at} us, every motor stopped {stopped} us later"
+    );
+    assert_eq!(rebooted, resets + 1, "its watchdog rebooted it");
+    assert!(stopped < 1_100_000, "stopped {stopped} us after the hang");
+    let snap = s.update();
+    assert_eq!(
+        split(master_exception(&snap)),
+        (11, 4, 0),
+        "SlaveSilent on controller 4"
+    );
+    all_at_rest_after(&mut s, 2.0);
+}
+
+#[test]
 fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
     // The library's emergency stop sets every gain and demand to 0, which leaves a
     // drive's output decaying ×0.96 a 150-ms window under power (reference §7.1). hostctl's
     // `stop` first sends every controller into REMOTESLAVE (bridges off at its next tick),
     // then the library's frames, then resets the boards it stopped.
     let mut s = watched_while_driving();
+    assert!(!every_motor_stopped(&s), "the drives are running");
     let dir = std::env::temp_dir().join(format!("hostctl-stop-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let script = dir.join("stop.rover");

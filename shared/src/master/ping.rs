@@ -35,11 +35,19 @@
 //! consecutive accesses from 5 s after boot (any of the above, or PC-relayed ones reported
 //! with [`Schedule::observe`]) is *silent*: the
 //! master raises [`ExceptionType::SlaveSilent`] naming it (motor 0), which spreads to all
-//! other slaves, so every motor stops. The first failure triggers an immediate re-check,
-//! so a single disturbed transfer is not enough. A slave that never answered is absent,
-//! not silent (a rover may be built with fewer pairs). A silent slave stays monitored: if
-//! the master's exception is cleared while it is still silent, the next failure raises it
-//! again, as a slave still in exception is re-detected by the next ping.
+//! other slaves, so every motor stops: on being found silent it spreads even while the
+//! master holds another exception (its boot state, for one), which the latch keeps. The
+//! first failure triggers an immediate re-check, so a single disturbed transfer is not
+//! enough. A slave that never answered is absent, not silent (a rover may be built with
+//! fewer pairs). A silent slave stays monitored: if the master's exception is cleared
+//! while it is still silent, the next failure raises it again, as a slave still in
+//! exception is re-detected by the next ping.
+//!
+//! **Lost spreads.** A spread write can fail with the rest of the bus (a slave holding
+//! SCL low fails every access until its watchdog frees it). So when a slave answers
+//! again after a failed access while the master holds an exception other than its boot
+//! state, the spread goes out again to all nine; a board already in exception is not
+//! changed by it.
 //!
 //! **Bound.** Every present slave is accessed at least every L = [`LIVENESS_MAX_AGE_MS`]
 //! = 16 ms whenever the loop polls, so a slave that stops answering is found at most
