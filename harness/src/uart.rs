@@ -160,6 +160,16 @@ impl Avr {
         self.arm_rx_pump();
     }
 
+    /// Drops the bytes queued by [`Avr::uart_send`] that the receiver has not been handed
+    /// yet: a line whose sender was cut off mid-stream, or a chip reset whose UART, as on
+    /// the real chip, keeps nothing of what was on its way. Returns how many.
+    pub fn uart_discard_input(&mut self) -> usize {
+        let mut queue = self.shared.rx_queue.borrow_mut();
+        let n = queue.len();
+        queue.clear();
+        n
+    }
+
     /// Bytes queued by [`Avr::uart_send`] that the receiver has not been handed yet.
     pub fn uart_pending_input(&self) -> usize {
         self.shared.rx_queue.borrow().len()

@@ -285,7 +285,7 @@ pub enum HostError {
     },
 
     /// The master never said `Ready`.
-    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right? (a twin told to lose serial bytes loses the banner too: `twin inject --link {path} status` shows any still pending, `drop-serial clear` cancels them)")]
+    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right? (a port last closed without HUPCL, e.g. after `stty -hupcl`, does not reset the master when opened: run `stty -F {path} hupcl` and retry; a twin told to lose serial bytes loses the banner too: `twin inject --link {path} status` shows any still pending, `drop-serial clear` cancels them)")]
     NoBanner {
         /// The port.
         path: String,

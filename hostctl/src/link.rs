@@ -364,13 +364,20 @@ fn read_index(device: u8, set: u8) -> usize {
 
 /// Whether a probe's answer (`code`, `count`) after a short reply says the serial line lost
 /// it: no link error since `before` (the errors seen at the last probe; none at all when
-/// there was none), or a frame damaged on its way to the master. Never an empty read set:
-/// that is a master that rebooted.
+/// there was none), or a frame damaged on its way to the master. A length below 3 is such
+/// damage too: hostctl never sends one, but a read frame that lost two bytes leaves its
+/// last byte (a set number, 0..7) to be taken as a length. Never an empty read set: that
+/// is a master that rebooted.
 fn lost_on_the_line(code: u8, count: u16, before: Option<u16>) -> bool {
     let no_new_error = before == Some(count) || (before.is_none() && count == 0);
-    let damaged = [LinkError::Truncated, LinkError::Framing, LinkError::Overrun]
-        .iter()
-        .any(|e| e.code() == code);
+    let damaged = [
+        LinkError::Truncated,
+        LinkError::Framing,
+        LinkError::Overrun,
+        LinkError::BadLength,
+    ]
+    .iter()
+    .any(|e| e.code() == code);
     code != LinkError::EmptyReadSet.code() && (no_new_error || damaged)
 }
 
@@ -470,6 +477,8 @@ mod tests {
         assert!(lost_on_the_line(no_answer, 4, Some(4)));
         assert!(lost_on_the_line(truncated, 5, Some(4)));
         assert!(lost_on_the_line(LinkError::Overrun.code(), 1, None));
+        // A read frame that lost two bytes: its set byte read as a length.
+        assert!(lost_on_the_line(LinkError::BadLength.code(), 7, Some(6)));
         // A new error of another kind, an old one never probed, or a rebooted master: no.
         assert!(!lost_on_the_line(no_answer, 5, Some(4)));
         assert!(!lost_on_the_line(no_answer, 3, None));
@@ -548,7 +557,9 @@ mod tests {
         assert_eq!(
             err,
             "no `Ready` from /dev/pts/9: nothing for 5 s after 1 line(s); \
-             is the rover/twin running? is /dev/pts/9 right? (a twin told to lose serial bytes \
+             is the rover/twin running? is /dev/pts/9 right? (a port last closed without \
+             HUPCL, e.g. after `stty -hupcl`, does not reset the master when opened: run \
+             `stty -F /dev/pts/9 hupcl` and retry; a twin told to lose serial bytes \
              loses the banner too: `twin inject --link /dev/pts/9 status` shows any still \
              pending, `drop-serial clear` cancels them)"
         );

@@ -71,3 +71,24 @@ fn a_master_reset_reboots_it_with_the_banner_and_hard_resets_every_slave() {
         );
     }
 }
+
+/// A frame a program sent just before its port closed (a reset, with HUPCL) dies with the
+/// reset, as on the Uno: the next program's session starts from the banner, not from it.
+#[test]
+fn bytes_on_their_way_at_a_master_reset_die_with_it() {
+    let mut r = booted();
+    r.run_us(100_000).unwrap();
+    // REGMASTER_PCTIMEOUT = 300 (the failsafe's timeout), sent and not yet received.
+    r.uart_send(&[0x06, 0x02, 0x01, 0x0f, 0x2c, 0x01]);
+    r.reset_master();
+    r.uart_read_until(b"Ready\r\n", 3_000_000).unwrap();
+    r.run_us(100_000).unwrap();
+    assert_eq!(r.uart_take(), b"", "no reply to the old frame");
+    // PCTIMEOUT (master register 15) reads as its boot value 0, through read set 7.
+    r.uart_send(&[0x04, 0x04, 0x07, 0x0f]);
+    r.run_us(20_000).unwrap();
+    assert_eq!(r.uart_take(), [0x01], "set 7 holds one register");
+    r.uart_send(&[0x03, 0x03, 0x07]);
+    r.run_us(20_000).unwrap();
+    assert_eq!(r.uart_take(), [0x00, 0x00], "PCTIMEOUT still 0");
+}

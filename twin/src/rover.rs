@@ -199,11 +199,15 @@ impl Rover {
     // ---- the serial line -------------------------------------------------------------
 
     /// Resets the master as the Uno's DTR auto-reset does when a program opens its port:
-    /// it reboots (and hard-resets the slaves, as its boot does); output not yet taken is lost.
+    /// it reboots (and hard-resets the slaves, as its boot does); output not yet taken and
+    /// input not yet received are lost.
     pub fn reset_master(&mut self) {
         if let Some(mut master) = self.bus.chip(MASTER_CHIP) {
             master.reset();
             master.uart_take();
+            // What the last program sent and the master had not received yet dies with
+            // the reset, as on the Uno: the next session starts from its banner.
+            master.uart_discard_input();
         }
         self.from_master.clear();
     }

@@ -291,7 +291,9 @@ fn after_stop_notes(lines: &[Line]) -> Vec<String> {
                     notes.push(format!(
                         "line {} sends a demand after the `stop` on line {at}, which set every \
                          motor's gains to 0 until a `calibrate`, so it moves nothing before \
-                         one; put `calibrate` after the stop",
+                         one; put `calibrate` after the stop, once the steer and lift demands \
+                         you want are sent (the stop leaves each position held on its own \
+                         ±100 scale, which a calibrate alone reads as degrees)",
                         line.number
                     ));
                 }
@@ -723,7 +725,9 @@ mod tests {
             [
                 "line 6 sends a demand after the `stop` on line 5, which set every motor's \
                  gains to 0 until a `calibrate`, so it moves nothing before one; put \
-                 `calibrate` after the stop"
+                 `calibrate` after the stop, once the steer and lift demands you want are \
+                 sent (the stop leaves each position held on its own ±100 scale, which a \
+                 calibrate alone reads as degrees)"
             ]
         );
         assert_eq!(
