@@ -52,6 +52,15 @@ pub(crate) mod port;
 
 use std::any::Any;
 
+/// The ATmega328P's TWI registers (data-space addresses) and the TWCR bits the bus reads.
+mod reg {
+    pub const TWAR: u16 = 0xBA;
+    pub const TWCR: u16 = 0xBC;
+    pub const TWEN: u8 = 1 << 2;
+    pub const TWEA: u8 = 1 << 6;
+    pub const TWINT: u8 = 1 << 7;
+}
+
 pub use model::{RegisterTarget, TargetEvent};
 pub use msg::{cond, TwiMsg};
 

@@ -5,17 +5,10 @@ use std::collections::VecDeque;
 use std::rc::Rc;
 
 use super::port::{Tap, TwiIrqs};
+use super::reg::{TWAR, TWCR, TWEA, TWEN, TWINT};
 use super::{cond, TwiError, TwiMsg};
 use crate::avr::CYCLES_PER_US;
 use crate::Avr;
-
-/// Data-space addresses of the TWI registers the bus reads.
-const TWAR: u16 = 0xBA;
-const TWCR: u16 = 0xBC;
-/// TWCR bits.
-const TWEN: u8 = 1 << 2;
-const TWEA: u8 = 1 << 6;
-const TWINT: u8 = 1 << 7;
 
 /// How a slave chip's TWI stands towards one address.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

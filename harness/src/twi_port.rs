@@ -5,13 +5,10 @@ use std::ffi::c_void;
 
 use simavr_ffi as ffi;
 
+use super::reg::{TWCR, TWINT};
 use super::{TwiError, TwiMsg};
 use crate::avr::{ioctl_def, Shared};
 use crate::Avr;
-
-/// Data-space address of TWCR, and its TWINT bit.
-const TWCR: u16 = 0xBC;
-const TWINT: u8 = 1 << 7;
 
 /// Handles one message from a chip's TWI output; a returned message is raised on the same
 /// chip's TWI input before the chip continues (the answer a master chip waits for).
