@@ -75,9 +75,12 @@ pub enum Command {
     Watch(cmd::watch::Args),
 
     /// Run a script of rover commands over one connection (opening the port resets the
-    /// master, so a sequence belongs in one session): reset, calibrate, write DEV REG
+    /// master, so a sequence belongs in one session): reset, calibrate (the library's
+    /// calibrate() with every running board stopped meanwhile: each steer and lift then
+    /// holds where it stands on the new calibration, each drive aims for 0), write DEV REG
     /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop (every motor unpowered at once,
-    /// then the library's emergency stop: gains and demands 0), wait SECONDS (a live view of
+    /// then the library's emergency stop: gains and demands 0; a board that ignores it
+    /// fails the line), wait SECONDS (a live view of
     /// required against actual per wheel, redrawn in place), watch SECONDS (the same view
     /// kept as a log, one every second), show DEV REG… (adds registers, e.g. `show 1
     /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a

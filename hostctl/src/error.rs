@@ -358,6 +358,24 @@ pub enum HostError {
         first: Box<HostError>,
     },
 
+    /// A `stop` left controllers running: each answered out of exception after its
+    /// REG_EXCEPTIONDATA write, so its DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3).
+    #[error("controller(s) {} ignored the stop: each is out of exception after its REG_EXCEPTIONDATA write, so its DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3, value 8) and its bridges stay on, a drive decaying from its last duty under power. Clear the bit (`hostctl read N disabledexceptions`, then `hostctl write N disabledexceptions` with bit 3 off, in the script as a `write` line) and stop again, or cut the rover's power", devices.iter().map(u8::to_string).collect::<Vec<_>>().join(", "))]
+    StopIgnored {
+        /// The controllers still running.
+        devices: Vec<u8>,
+    },
+
+    /// A `calibrate` could not stop a running controller before its frames, so none was
+    /// sent.
+    #[error("no calibration sent: controller {device} could not be stopped first ({source}); the controllers stopped before it stay stopped (REMOTESLAVE) until a `reset` line")]
+    CalibrateNotHeld {
+        /// The controller whose REG_EXCEPTIONDATA write failed.
+        device: u8,
+        /// Why.
+        source: Box<HostError>,
+    },
+
     /// The set-read-set reply was not the register count.
     #[error("device {device} answered {got} to set-read-set {set}, expected the count {expected}{words}")]
     ReadSetRejected {

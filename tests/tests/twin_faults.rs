@@ -644,27 +644,8 @@ fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
     // then the library's frames, then resets the boards it stopped.
     let mut s = watched_while_driving();
     assert!(!every_motor_stopped(&s), "the drives are running");
-    let dir = std::env::temp_dir().join(format!("hostctl-stop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let script = dir.join("stop.rover");
-    std::fs::write(&script, "stop\n").unwrap();
-    let path = script.display().to_string();
-    let args = ["hostctl", "run", &path];
-    let cli = <hostctl::Cli as clap::Parser>::try_parse_from(args).unwrap();
-    let mut plan = hostctl::plan(&cli.command).unwrap();
-    // The session is past the master's 5-s watch already: the run need not wait for it.
-    if let hostctl::Plan::Run(run) = &mut plan {
-        run.settled = s.clock_now();
-    }
-    let style = hostctl::Style {
-        json: false,
-        in_place: false,
-        width: || None,
-    };
     let at = s.clock_now();
-    let mut out = Vec::new();
-    hostctl::execute_with_clock(&plan, &mut s.link, style, &mut out, &mut s.clock)
-        .expect("the stop runs");
+    hostctl_run(&mut s, "stop", "stop\n").expect("the stop runs");
     let took = s.clock_now() - at;
     println!("hostctl stop took {took:?}");
     // Its 45 frames, the library's 180-ms pause, one update() and the resets.
@@ -684,7 +665,95 @@ fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
     // The wheels coast unpowered, and nothing drives them again.
     all_at_rest_after(&mut s, 1.0);
     assert!(every_motor_stopped(&s), "a motor driven again");
+}
+
+/// Runs `script` with `hostctl run` over the session's link and clock (the session is past
+/// the master's 5-s watch, so the run does not wait for it); returns what it printed.
+fn hostctl_run(s: &mut Session, name: &str, script: &str) -> Result<String, String> {
+    let dir = std::env::temp_dir().join(format!("hostctl-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(format!("{name}.rover"));
+    std::fs::write(&file, script).unwrap();
+    let path = file.display().to_string();
+    let cli = <hostctl::Cli as clap::Parser>::try_parse_from(["hostctl", "run", &path]).unwrap();
+    let mut plan = hostctl::plan(&cli.command).unwrap();
+    if let hostctl::Plan::Run(run) = &mut plan {
+        run.settled = s.clock_now();
+    }
+    let style = hostctl::Style {
+        json: false,
+        in_place: false,
+        width: || None,
+    };
+    let mut out = Vec::new();
+    let ran = hostctl::execute_with_clock(&plan, &mut s.link, style, &mut out, &mut s.clock);
     let _ = std::fs::remove_dir_all(&dir);
+    let text = String::from_utf8_lossy(&out).into_owned();
+    ran.map(|()| text).map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_calibrate_after_hostctls_stop_holds_every_steer_and_lift_where_it_stands() {
+    // Steers at 20° and lifts at 10°, then hostctl's `stop` (its library frames calibrate
+    // every position on -100..100) and a `calibrate`. The library's calibrate alone turns
+    // each to the number it held on the stop's scale, now read as degrees; hostctl's holds
+    // each board stopped while it runs, so each holds where it stands on the new scale.
+    let mut s = Session::start();
+    s.calibrate();
+    s.reset_exceptions();
+    let steers: Vec<(u8, f32)> = WHEELS.map(|w| (w, 20.0)).collect();
+    let lifts: Vec<(u8, f32)> = WHEELS.map(|w| (w, 10.0)).collect();
+    s.set(Motor::Steer, &steers);
+    s.set(Motor::Lift, &lifts);
+    let boot_settle = 6.0 - s.clock_now().as_secs_f64();
+    s.pass(boot_settle.max(1.0));
+    let angles = |s: &Session| -> Vec<(f64, f64)> {
+        let twin = s.twin.borrow();
+        WHEELS
+            .map(|w| {
+                let wheel = twin.wheel(w).unwrap();
+                (wheel.steer_deg, wheel.lift_deg)
+            })
+            .collect()
+    };
+    let before = angles(&s);
+    for &(steer, lift) in &before {
+        assert!(
+            (steer - 20.0).abs() < 2.0 && (lift - 10.0).abs() < 2.0,
+            "{before:?}"
+        );
+    }
+    hostctl_run(&mut s, "stop-calibrate", "stop\ncalibrate\n").expect("the script runs");
+    s.pass(3.0);
+    let after = angles(&s);
+    println!("steer and lift angles before {before:?}, 3 s after {after:?}");
+    for (b, a) in before.iter().zip(&after) {
+        assert!(
+            (a.0 - b.0).abs() < 1.0 && (a.1 - b.1).abs() < 1.0,
+            "moved: {before:?} -> {after:?}"
+        );
+    }
+    // The boards run again, on the new calibration: the positions read in degrees.
+    let snap = s.update();
+    for w in WHEELS {
+        let steer = f64::from(twin_support::steer_pos(&snap, w));
+        assert!(
+            (steer - after[usize::from(w - 1)].0).abs() < 1.5,
+            "{w}: {steer}"
+        );
+    }
+    for n in 1..=9 {
+        assert_eq!(
+            slave_exception(&snap, n),
+            None,
+            "controller {n} in exception"
+        );
+    }
+    // A demand moves it again.
+    s.set(Motor::Steer, &[(1, -10.0)]);
+    s.pass(2.0);
+    let steer = s.twin.borrow().wheel(1).unwrap().steer_deg;
+    assert!((steer + 10.0).abs() < 2.0, "wheel 1's steer at {steer}");
 }
 
 /// The line of `twin inject status` that starts with `label`.

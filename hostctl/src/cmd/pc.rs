@@ -689,17 +689,20 @@ pub fn reset_exceptions() -> Result<Vec<Op>, HostError> {
 pub fn bridges_off(pairs: Pairs) -> Result<Vec<Op>, HostError> {
     (1..=9)
         .filter(|&device| pairs.has_device(device))
-        .map(|device| {
-            write_frame(
-                device,
-                &[Write {
-                    id: id::REG_EXCEPTIONDATA,
-                    raw: 0,
-                }],
-                "REG_EXCEPTIONDATA",
-            )
-        })
+        .map(bridge_off)
         .collect()
+}
+
+/// [`bridges_off`] of one controller: its REG_EXCEPTIONDATA write.
+pub fn bridge_off(device: u8) -> Result<Op, HostError> {
+    write_frame(
+        device,
+        &[Write {
+            id: id::REG_EXCEPTIONDATA,
+            raw: 0,
+        }],
+        "REG_EXCEPTIONDATA",
+    )
 }
 
 /// REG_RESET = 1 to one device (REGMASTER_RESET on the master): it leaves its exception.

@@ -45,6 +45,7 @@ use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, Reading, SetRead};
 use crate::error::HostError;
+use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
 use crate::meaning::Meaning;
@@ -340,6 +341,8 @@ struct Session {
     last: Option<Snapshot>,
     /// Whether a write went out after it.
     sent_since_last: bool,
+    /// The controllers a `calibrate` stopped while it runs ([`Action::Freeze`]).
+    frozen: Vec<u8>,
 }
 
 /// The values of the `show` sets at one update: each set's device and its registers with
@@ -606,7 +609,26 @@ fn act<P: Port>(
                 let reset = Action::Op(pc::reset_of(device)?);
                 act(&reset, link, clock, poller, line, session, output)?;
             }
+            let ignored = running(&now, line.pc.pairs());
+            if !ignored.is_empty() {
+                return Err(HostError::StopIgnored { devices: ignored });
+            }
         }
+        Action::Freeze => {
+            let now = poller.update(link)?;
+            session.dropped.note(&now, &line.pc);
+            for device in running(&now, line.pc.pairs()) {
+                let stop = Action::Op(pc::bridge_off(device)?);
+                act(&stop, link, clock, poller, line, session, output).map_err(|source| {
+                    HostError::CalibrateNotHeld {
+                        device,
+                        source: Box::new(source),
+                    }
+                })?;
+                session.frozen.push(device);
+            }
+        }
+        Action::Thaw => thaw(link, clock, poller, line, session, output)?,
         Action::Say(text) if output.json => {
             let say = event().int("line", number(line)).str("say", text);
             writeln!(output.out, "{}", say.finish()).map_err(HostError::Output)?;
@@ -617,6 +639,106 @@ fn act<P: Port>(
         }
     }
     Ok(())
+}
+
+/// The end of a `calibrate` ([`Action::Thaw`]): each controller its start stopped, and
+/// that `now` shows in REMOTESLAVE, leaves it (REG_RESET 1), unless the master may have
+/// stopped them itself meanwhile: a controller stopped gone silent, or the master holding
+/// an exception that stops the rover. Each left stopped, or that ignored the stop (its
+/// DISABLEDEXCEPTIONS masks REMOTESLAVE), is named in a note.
+fn thaw<P: Port>(
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    poller: &Poller,
+    line: &Line,
+    session: &mut Session,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let frozen = std::mem::take(&mut session.frozen);
+    if frozen.is_empty() {
+        return Ok(());
+    }
+    let now = poller.update(link)?;
+    session.dropped.note(&now, &line.pc);
+    let list = |devices: &[u8]| {
+        devices
+            .iter()
+            .map(u8::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let silent: Vec<u8> = frozen
+        .iter()
+        .copied()
+        .filter(|d| now.silent().contains(d))
+        .collect();
+    let why = if !silent.is_empty() {
+        Some(format!("controller(s) {} stopped answering", list(&silent)))
+    } else {
+        master_stops(&now)
+    };
+    if let Some(why) = why {
+        let note = format!(
+            "the calibrate leaves controller(s) {} stopped (REMOTESLAVE): {why}, so the \
+             master may have stopped them; a `reset` line releases them once the cause is gone",
+            list(&frozen)
+        );
+        return say_note(&note, line, output);
+    }
+    let remote = in_remote_exception(&now, line.pc.pairs());
+    for &device in frozen.iter().filter(|d| remote.contains(d)) {
+        let reset = Action::Op(pc::reset_of(device)?);
+        act(&reset, link, clock, poller, line, session, output)?;
+    }
+    let ignored: Vec<u8> = running(&now, line.pc.pairs())
+        .into_iter()
+        .filter(|d| frozen.contains(d))
+        .collect();
+    if ignored.is_empty() {
+        return Ok(());
+    }
+    let note = format!(
+        "controller(s) {} ignored the calibrate's stop (DISABLEDEXCEPTIONS masks \
+         REMOTESLAVE, bit 3): their steers or lifts were not held still, and may have turned \
+         to the number they held, read on the new calibration; send their demands now",
+        list(&ignored)
+    );
+    say_note(&note, line, output)
+}
+
+/// Why the master may have stopped the rover, from the exception `now` shows it holding:
+/// any but none, its boot state and a missing temperature sensor, which stop no motor.
+/// Its state unread counts too.
+fn master_stops(now: &Snapshot) -> Option<String> {
+    let Some(raw) = now.raw(0, id::REGMASTER_EXCEPTIONDATA) else {
+        return Some("the master's state was not read".to_owned());
+    };
+    let e = Exception::master(raw);
+    let harmless = [ExceptionType::Boot, ExceptionType::SensorMissing];
+    if e.is_none() || harmless.iter().any(|&t| e.code == t as u8) {
+        return None;
+    }
+    Some(format!("the master holds an exception ({})", e.words()))
+}
+
+/// Prints a note of `line` as the run prints its other notes.
+fn say_note(note: &str, line: &Line, output: &mut Output<'_>) -> Result<(), HostError> {
+    if output.json {
+        let event = event().int("line", number(line)).str("note", note);
+        writeln!(output.out, "{}", event.finish())
+    } else {
+        writeln!(output.out, "note: {note}")
+    }
+    .map_err(HostError::Output)
+}
+
+/// The fitted controllers that `now` shows running: STATUS read, out of exception.
+fn running(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
+    (1..=9)
+        .filter(|&device| pairs.has_device(device))
+        .filter(|&device| now.raw(device, id::REG_STATUS).is_some())
+        .filter(|&device| slave_exception(now, device).is_none())
+        .collect()
 }
 
 /// The fitted controllers that `now` shows in REMOTESLAVE: the ones a `stop`'s
@@ -738,6 +860,33 @@ mod tests {
             .collect()
     }
 
+    /// update()'s replies with some controllers' STATUS and EXCEPTIONDATA set: (controller,
+    /// STATUS, EXCEPTIONDATA); every other board reads running.
+    fn update_with(states: &[(u8, u16, u16)]) -> Vec<Vec<u8>> {
+        let mut now = update_replies();
+        for &(device, status, data) in states {
+            let row = &mut now[usize::from(device - 1)];
+            row[4..6].copy_from_slice(&u16::to_le_bytes(status));
+            row[6..8].copy_from_slice(&u16::to_le_bytes(data));
+        }
+        now
+    }
+
+    /// update()'s replies with every controller in its boot state (after the port opened).
+    fn booted() -> Vec<Vec<u8>> {
+        let boot: Vec<(u8, u16, u16)> = (1..=9).map(|d| (d, 0x01, 0x0502)).collect();
+        update_with(&boot)
+    }
+
+    /// update()'s replies with every controller in REMOTESLAVE but those of `except`.
+    fn remote_but(except: &[u8]) -> Vec<Vec<u8>> {
+        let remote: Vec<(u8, u16, u16)> = (1..=9)
+            .filter(|d| !except.contains(d))
+            .map(|d| (d, 0x01, 0x0503))
+            .collect();
+        update_with(&remote)
+    }
+
     /// The plan of a script `t.rover` holding `source`.
     fn plan(source: &str) -> Plan {
         plan_for(source, Pairs::ALL)
@@ -855,20 +1004,13 @@ mod tests {
     fn a_stop_turns_every_bridge_off_first_and_releases_the_boards_it_stopped() {
         let mut replies = configure_replies();
         replies.extend(std::iter::repeat_n(vec![0], 45));
-        // The update() after the library's frames: controllers 1 and 2 in REMOTESLAVE (the
-        // stop's), 4 in its own overcurrent, 5 in its boot state, the rest running.
-        let mut now = update_replies();
-        for (row, status, data) in [
-            (0, 0x09, 0x0503),
-            (1, 0x09, 0x0503),
-            (3, 0x09, 0x0001),
-            (4, 0x09, 0x0502),
-        ] {
-            now[row][4..6].copy_from_slice(&u16::to_le_bytes(status));
-            now[row][6..8].copy_from_slice(&u16::to_le_bytes(data));
-        }
+        // The update() after the library's frames: every controller in REMOTESLAVE (the
+        // stop's) but 4, in its own overcurrent, and 5, in its boot state.
+        let mut now = remote_but(&[4, 5]);
+        now[3][4..8].copy_from_slice(&[0x09, 0x00, 0x01, 0x00]);
+        now[4][4..8].copy_from_slice(&[0x09, 0x00, 0x02, 0x05]);
         replies.extend(now);
-        replies.extend([vec![0], vec![0]]);
+        replies.extend(std::iter::repeat_n(vec![0], 7));
         let ran = run_script("stop\n", &replies, false);
         ran.result.unwrap();
         let sent = &ran.hex[10..];
@@ -880,21 +1022,191 @@ mod tests {
             "19 12 08 0a 00 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f 32 33 18 fe 19 05"
         );
         assert_eq!(sent[44], "06 92 01 1b ff 7f");
-        // One update() (ten reads), then REG_RESET 1 to controllers 1 and 2 only.
-        assert_eq!(sent.len(), 45 + 10 + 2, "{sent:?}");
-        assert_eq!(sent[55..], ["05 12 01 00 01", "05 22 01 00 01"]);
+        // One update() (ten reads), then REG_RESET 1 to each board in REMOTESLAVE only.
+        assert_eq!(sent.len(), 45 + 10 + 7, "{sent:?}");
+        let resets: Vec<String> = [1, 2, 3, 6, 7, 8, 9]
+            .iter()
+            .map(|d| format!("05 {d}2 01 00 01"))
+            .collect();
+        assert_eq!(sent[55..], resets[..]);
         // The library's 180-ms pause comes after the bridges' frames (it is the first
         // step of its stop), and a reset gap before each REG_RESET.
         assert_eq!(ran.pauses[0], Duration::from_millis(180));
-        assert_eq!(ran.pauses[ran.pauses.len() - 2..], [RESET_GAP, RESET_GAP]);
+        assert_eq!(ran.pauses[1..], [RESET_GAP; 7]);
+    }
+
+    #[test]
+    fn a_stop_that_a_board_ignores_fails_naming_it_and_the_fix() {
+        // Controllers 2 and 7 mask REMOTESLAVE (DISABLEDEXCEPTIONS bit 3): the update()
+        // after the stop reads them running. The others are released, then the line fails.
+        let mut replies = configure_replies();
+        replies.extend(std::iter::repeat_n(vec![0], 45));
+        replies.extend(remote_but(&[2, 7]));
+        replies.extend(std::iter::repeat_n(vec![0], 7));
+        let ran = run_script("stop\nsay after\n", &replies, false);
+        assert_eq!(ran.hex.len(), 10 + 45 + 10 + 7, "{:?}", ran.hex);
+        assert_eq!(ran.hex[ran.hex.len() - 1], "05 92 01 00 01");
+        let message = ran.result.unwrap_err().to_string();
+        assert!(
+            message.starts_with(
+                "t.rover line 1 (`stop`) failed: controller(s) 2, 7 ignored the stop: each is \
+                 out of exception after its REG_EXCEPTIONDATA write, so its \
+                 DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3, value 8) and its bridges stay on"
+            ),
+            "{message}"
+        );
+        assert!(!ran.text.contains("after"), "{}", ran.text);
+    }
+
+    /// A `calibrate` run over `update` at its start, its 30 frames answered 00, then
+    /// `thaw` at its end and `resets` REG_RESETs answered 00.
+    fn calibrate_over(stops: usize, start: Vec<Vec<u8>>, thaw: Vec<Vec<u8>>, resets: usize) -> Ran {
+        let mut replies = configure_replies();
+        replies.extend(start);
+        replies.extend(std::iter::repeat_n(vec![0], stops + 30));
+        replies.extend(thaw);
+        replies.extend(std::iter::repeat_n(vec![0], resets));
+        run_script("calibrate\nsay after\n", &replies, false)
+    }
+
+    #[test]
+    fn a_calibrate_stops_the_running_boards_while_it_runs_and_releases_them() {
+        // At its start controller 4 is in its own overcurrent and 5 in its boot state; the
+        // other seven run. They are stopped first, then calibrated, then released: each
+        // steer and lift holds where it stands on its new calibration.
+        let own = [(4, 0x09, 0x0001), (5, 0x09, 0x0502)];
+        let mut thaw = remote_but(&[4, 5]);
+        thaw[3][4..8].copy_from_slice(&[0x09, 0x00, 0x01, 0x00]);
+        thaw[4][4..8].copy_from_slice(&[0x09, 0x00, 0x02, 0x05]);
+        let ran = calibrate_over(7, update_with(&own), thaw, 7);
+        ran.result.unwrap();
+        let sent = &ran.hex[10..];
+        let running = [1, 2, 3, 6, 7, 8, 9];
+        let stops: Vec<String> = running
+            .iter()
+            .map(|d| format!("06 {d}2 01 05 00 00"))
+            .collect();
+        assert_eq!(sent[0], "03 13 00", "an update() first");
+        assert_eq!(sent[10..17], stops[..]);
+        // calibrate()'s frames unchanged: wheel 1's drive block first.
+        assert_eq!(
+            sent[17],
+            "19 12 08 0a 41 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f ff 7f 18 fe 19 05"
+        );
+        assert_eq!(sent[47], "03 13 00", "an update() after the frames");
+        let resets: Vec<String> = running
+            .iter()
+            .map(|d| format!("05 {d}2 01 00 01"))
+            .collect();
+        assert_eq!(sent[57..], resets[..]);
+        assert_eq!(ran.pauses[..12], [Duration::from_millis(50); 12]);
+        assert_eq!(ran.pauses[12..], [RESET_GAP; 7]);
+        assert_eq!(ran.text.lines().last(), Some("after"), "{}", ran.text);
+        assert!(!ran.text.contains("note:"), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_calibrate_leaves_the_boards_stopped_when_the_master_may_have_stopped_them() {
+        // The master holds SLAVESILENT naming controller 4 (0x040b) at the end: it has sent
+        // every board into REMOTESLAVE, and the calibrate must not undo that.
+        let mut thaw = remote_but(&[]);
+        thaw[9][20..22].copy_from_slice(&0x040bu16.to_le_bytes());
+        let ran = calibrate_over(9, update_replies(), thaw, 0);
+        ran.result.unwrap();
+        assert_eq!(ran.hex.len(), 10 + 10 + 9 + 30 + 10, "no REG_RESET");
+        assert!(
+            ran.text.contains(
+                "\nnote: the calibrate leaves controller(s) 1, 2, 3, 4, 5, 6, 7, 8, 9 stopped \
+                 (REMOTESLAVE): the master holds an exception (slave not answering on controller 4, \
+                 the whole board), so the master may have stopped them; a `reset` line releases \
+                 them once the cause is gone\n"
+            ),
+            "{}",
+            ran.text
+        );
+        // A controller stopped that no longer answers: the same, naming it.
+        let mut thaw = remote_but(&[]);
+        thaw.remove(1);
+        thaw.insert(1, vec![]);
+        thaw.insert(2, vec![2]);
+        thaw.insert(3, vec![0x0c, 0x01, 0x00]);
+        let ran = calibrate_over(9, update_replies(), thaw, 0);
+        ran.result.unwrap();
+        assert!(
+            ran.text.contains(
+                "\nnote: the calibrate leaves controller(s) 1, 2, 3, 4, 5, 6, 7, 8, 9 stopped \
+                 (REMOTESLAVE): controller(s) 2 stopped answering, so the master"
+            ),
+            "{}",
+            ran.text
+        );
+        // Its state unknown: the same.
+        let mut thaw = remote_but(&[]);
+        thaw.pop();
+        thaw.extend([vec![], vec![0x02], vec![0x00, 0x00, 0x00]]);
+        let ran = calibrate_over(9, update_replies(), thaw, 0);
+        assert!(
+            ran.text
+                .contains("(REMOTESLAVE): the master's state was not read, so"),
+            "{:?}\n{}",
+            ran.result,
+            ran.text
+        );
+    }
+
+    #[test]
+    fn a_calibrate_names_a_board_that_ignored_its_stop() {
+        // Controller 8 masks REMOTESLAVE: it runs on through the calibrate. The others are
+        // released; a note names it.
+        let ran = calibrate_over(9, update_replies(), remote_but(&[8]), 8);
+        ran.result.unwrap();
+        assert_eq!(ran.hex.len(), 10 + 10 + 9 + 30 + 10 + 8);
+        assert!(
+            ran.text.contains(
+                "\nnote: controller(s) 8 ignored the calibrate's stop (DISABLEDEXCEPTIONS \
+                 masks REMOTESLAVE, bit 3): their steers or lifts were not held still"
+            ),
+            "{}",
+            ran.text
+        );
+    }
+
+    #[test]
+    fn a_calibrate_that_cannot_stop_a_board_sends_no_calibration() {
+        // Controller 3 does not acknowledge its REG_EXCEPTIONDATA (0x8c): no calibration
+        // frame goes out, and 1 and 2, stopped already, stay stopped.
+        let mut replies = configure_replies();
+        replies.extend(update_replies());
+        replies.extend([vec![0], vec![0], vec![0x8c]]);
+        let ran = run_script("calibrate\n", &replies, false);
+        assert_eq!(ran.hex.len(), 10 + 10 + 3, "{:?}", ran.hex);
+        let message = ran.result.unwrap_err().to_string();
+        assert!(
+            message.starts_with(
+                "t.rover line 1 (`calibrate`) failed: no calibration sent: controller 3 could \
+                 not be stopped first (device 3 refused the write to REG_EXCEPTIONDATA"
+            ),
+            "{message}"
+        );
+        assert!(
+            message.ends_with(
+                "the controllers stopped before it stay stopped (REMOTESLAVE) until a `reset` line"
+            ),
+            "{message}"
+        );
     }
 
     #[test]
     fn a_refused_parameter_block_says_the_board_may_hold_some_of_it() {
         // Wheel 1's drive block (8 register writes in one frame) gets 0x8c: the master sent
         // each write and at least one was not taken.
-        let ran = run_script("calibrate\n", &first_write_refused(29), false);
-        assert_eq!(ran.hex.len(), 10 + 30, "{:?}", ran.hex);
+        // Every board in its boot state: the calibrate stops none first.
+        let mut replies = configure_replies();
+        replies.extend(booted());
+        replies.push(vec![0x8c]);
+        replies.extend(std::iter::repeat_n(vec![0], 29));
+        let ran = run_script("calibrate\n", &replies, false);
+        assert_eq!(ran.hex.len(), 10 + 10 + 30, "{:?}", ran.hex);
         let message = ran.result.unwrap_err().to_string();
         assert!(
             message.contains(
@@ -1016,6 +1328,7 @@ mod tests {
             let mut replies = configure_replies();
             replies.push(vec![2]);
             if calibrate {
+                replies.extend(booted());
                 replies.extend(std::iter::repeat_n(vec![0], 30));
             }
             for _ in 0..2 {
@@ -1126,6 +1439,7 @@ mod tests {
         // legend. It answers the `show` read: that angle is marked and explained.
         let mut replies = configure_replies();
         replies.push(vec![1]);
+        replies.extend(booted());
         replies.extend(std::iter::repeat_n(vec![0], 31));
         let mut update = update_replies();
         update.remove(0);
@@ -1211,24 +1525,46 @@ mod tests {
             "reset\ncalibrate\ndrive all 100\nturn 10\nwait 0.01\n",
             pairs,
         );
-        // init(): set 0 via 1 and 2, set 1 via 3, set 2 via the master; then 4 resets, 10
-        // calibration frames (2 wheels), 2 drives, 2 steers; then update()s of 4 reads.
+        // init(): set 0 via 1 and 2, set 1 via 3, set 2 via the master; then 4 resets; the
+        // calibrate's update() of 4 reads (all three boards running), its REG_EXCEPTIONDATA
+        // to each, 10 calibration frames (2 wheels), its update() (each in REMOTESLAVE) and
+        // 3 REG_RESETs; 2 drives, 2 steers; then update()s of 4 reads.
+        let running = || [vec![0; 40], vec![0; 40], vec![0; 36], vec![0; 24]];
         let mut replies: Vec<Vec<u8>> = vec![vec![20], vec![20], vec![18], vec![12]];
-        replies.extend(std::iter::repeat_n(vec![0], 4 + 10 + 2 + 2));
+        replies.extend(std::iter::repeat_n(vec![0], 4));
+        replies.extend(running());
+        replies.extend(std::iter::repeat_n(vec![0], 3 + 10));
+        let mut remote = running();
+        for row in &mut remote[..3] {
+            row[4..8].copy_from_slice(&[0x01, 0x00, 0x03, 0x05]);
+        }
+        replies.extend(remote);
+        replies.extend(std::iter::repeat_n(vec![0], 3 + 2 + 2));
         for _ in 0..2 {
-            replies.extend([vec![0; 40], vec![0; 40], vec![0; 36], vec![0; 24]]);
+            replies.extend(running());
         }
         let ran = run_plan(&plan, &replies, false);
         ran.result.unwrap();
         let devices: Vec<&str> = ran.hex.iter().map(|f| &f[3..4]).collect();
         assert_eq!(
             devices.concat(),
-            "1230".to_owned() + "1230" + "1113322233" + "12" + "12" + "1230" + "1230",
+            // init, reset, then the calibrate: update, stops, frames, update, resets.
+            "1230".to_owned()
+                + "1230"
+                + "1230"
+                + "123"
+                + "1113322233"
+                + "1230"
+                + "123"
+                + "12"
+                + "12"
+                + "1230"
+                + "1230",
             "{:#?}",
             ran.hex
         );
         // Wheels 1 and 2 turn 10° (0x8665 on ±200); 3..6 get no frame.
-        assert_eq!(ran.hex[20], "06 12 01 1a 65 86");
+        assert_eq!(ran.hex[20 + 14], "06 12 01 1a 65 86");
         let text = ran.text;
         assert!(text.contains("\n2            100"), "{text}");
         assert!(!text.contains("\n3 "), "{text}");
@@ -1348,6 +1684,8 @@ write 4 reset 2
     fn a_script_runs_in_one_session_with_its_pauses_and_view() {
         let mut replies = configure_replies();
         replies.push(vec![0]);
+        // No `reset`: the calibrate finds every board in its boot state, and stops none.
+        replies.extend(booted());
         replies.extend(std::iter::repeat_n(vec![0], 30));
         replies.extend(update_replies());
         replies.extend(update_replies());
@@ -1365,12 +1703,18 @@ write 4 reset 2
         // The master's set 2: the library's eleven registers, then REGMASTER_TEMPSREAD.
         assert_eq!(hex[9], "0f 04 02 01 02 03 04 05 06 07 08 09 0a 0b 0e");
         assert_eq!(hex[10], "06 12 01 09 fe 9f");
+        // The calibrate's update() (no board running: nothing stopped, none released).
+        assert_eq!(hex[11], "03 13 00");
         assert_eq!(
-            hex[41], "03 13 00",
-            "update() starts after the 30 calibration frames"
+            hex[21], "19 12 08 0a 41 00 0b 00 00 0c ff 7f 0d 00 00 0e 00 00 0f ff 7f 18 fe 19 05",
+            "wheel 1's drive block, calibrate()'s first frame"
         );
-        assert_eq!(hex[50], "03 03 02");
-        assert_eq!(hex.len(), 61, "two update() rounds in 10 ms of fake time");
+        assert_eq!(
+            hex[51], "03 13 00",
+            "the view's update() starts after the 30 calibration frames"
+        );
+        assert_eq!(hex[60], "03 03 02");
+        assert_eq!(hex.len(), 71, "two update() rounds in 10 ms of fake time");
         let pauses = ran.pauses;
         assert_eq!(pauses[..12], [Duration::from_millis(50); 12]);
         assert_eq!(pauses[12..], [TICK]);

@@ -7,13 +7,13 @@
 //! | Line | What it does |
 //! |---|---|
 //! | `reset` | resetExceptions(): REG_RESET = 1 to controllers 1..9, then the master (§8.5) |
-//! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses |
+//! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses, while every running board is stopped (REG_EXCEPTIONDATA first, REG_RESET 1 after): each steer and lift then holds where it stands on its new calibration, where the library's call alone turns it to the number it held, read on the new scale; each drive aims for 0. Demands sent before it are dropped. Boards it finds in exception (boot included) are left as they are; when the master may have stopped the rover meanwhile (it holds an exception that stops it, or a board stopped no longer answers) the boards stay stopped until a `reset`, with a note |
 //! | `write DEV REG VALUE` | One register write, as `hostctl write` (checked against the register's range only, not the library's position limits) |
 //! | `drive W\|all SPEED` | Drive speed demand (ticks/s) on wheel W or all six |
 //! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
 //! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
 //! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
-//! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s |
+//! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s. A board still running then (its DISABLEDEXCEPTIONS masks REMOTESLAVE) fails the line, named |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
 //! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (read sets 3..6: at most four different register lists, as lines naming the same registers share a set) |
@@ -51,6 +51,14 @@ pub enum Action {
     /// The end of a `stop`: each controller its REG_EXCEPTIONDATA write left in
     /// REMOTESLAVE leaves it again (REG_RESET bit 0), found by one update().
     Release,
+    /// The start of a `calibrate`: one update(), then REG_EXCEPTIONDATA to each controller
+    /// it shows running, which stops both its motors (REMOTESLAVE) and from then on holds
+    /// each position demand at the angle measured, on whatever calibration the board holds.
+    Freeze,
+    /// The end of a `calibrate`: each controller [`Action::Freeze`] stopped leaves
+    /// REMOTESLAVE again (REG_RESET bit 0), found by one update(), so that its steer or lifts
+    /// hold where they stand on the new calibration and its drive aims for 0.
+    Thaw,
     /// Print a line.
     Say(String),
     /// Add registers of a device to every later live view (each such line takes one of the
@@ -182,8 +190,8 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// exception replaces its demands, reference §6.4: that one is lost), or demands with no
 /// `calibrate` line (the gains stay 0, so nothing moves), a demand after a `stop` before
 /// the next `calibrate` (the stop sets the gains to 0), or a last demand with no `wait`
-/// or `watch` after it (the script's end reboots the rover at once). A demand before the
-/// calibration but after the reset is kept and acts once the gains arrive.
+/// or `watch` after it (the script's end reboots the rover at once), and demands a `stop`
+/// or a `calibrate` leaves without effect ([`stop_and_calibrate_notes`]).
 pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> String {
         command_word(&l.text)
@@ -220,7 +228,7 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         ));
     }
     if has("calibrate") {
-        notes.extend(after_stop_notes(lines));
+        notes.extend(stop_and_calibrate_notes(lines));
     }
     // The script's end closes the port, which reboots the rover: a last demand with no
     // wait after it has no time to act.
@@ -275,27 +283,46 @@ fn speed_notes(lines: &[Line]) -> Vec<String> {
         .collect()
 }
 
-/// A demand after a `stop` with no `calibrate` (or `write`, which may set gains) between
-/// them: the stop sends every motor the library's default block, whose gains are 0
-/// (reference §10.3), so the demand moves nothing.
-fn after_stop_notes(lines: &[Line]) -> Vec<String> {
+/// Demands a `stop` or a `calibrate` leaves without effect. After a `stop` with no
+/// `calibrate` (or `write`, which may set gains) between them: the stop sends every motor
+/// the library's default block, whose gains are 0 (reference §10.3), so the demand moves
+/// nothing. Before a `calibrate`, once a `reset` has let the boards run: the calibrate
+/// stops every running board while it runs, which drops its demands (a drive then aims
+/// for 0, a steer or lift holds where it stands), so the last such demand is named.
+fn stop_and_calibrate_notes(lines: &[Line]) -> Vec<String> {
     let word = |l: &Line| command_word(&l.text);
     let mut notes = Vec::new();
     let mut stop = None;
+    let mut reset = false;
+    let mut demand = None;
     for line in lines {
         match word(line).as_str() {
             "stop" => stop = Some(line.number),
-            "calibrate" | "write" => stop = None,
+            "reset" => reset = true,
+            "write" => stop = None,
+            "calibrate" => {
+                stop = None;
+                if let Some(at) = demand.take() {
+                    notes.push(format!(
+                        "line {at} sends a demand that the `calibrate` on line {} drops: it \
+                         stops every running board while it runs, and then each drive aims \
+                         for 0 and each steer and lift holds where it stands; send demands \
+                         after the calibrate",
+                        line.number
+                    ));
+                }
+            }
             "drive" | "steer" | "turn" | "lift" => {
                 if let Some(at) = stop.take() {
+                    // That note's fix covers the calibrate's too.
                     notes.push(format!(
                         "line {} sends a demand after the `stop` on line {at}, which set every \
                          motor's gains to 0 until a `calibrate`, so it moves nothing before \
-                         one; put `calibrate` after the stop, once the steer and lift demands \
-                         you want are sent (the stop leaves each position held on its own \
-                         ±100 scale, which a calibrate alone reads as degrees)",
+                         one; put `calibrate` after the stop, before the demands",
                         line.number
                     ));
+                } else if reset {
+                    demand = Some(line.number);
                 }
             }
             _ => {}
@@ -471,7 +498,12 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
     };
     match words.as_slice() {
         ["reset"] => Ok(ops(pc::reset_exceptions_of(pc.pairs())?)),
-        ["calibrate"] => Ok(ops(pc.calibrate()?)),
+        ["calibrate"] => {
+            let mut calibrate = vec![Action::Freeze];
+            calibrate.extend(ops(pc.calibrate()?));
+            calibrate.push(Action::Thaw);
+            Ok(calibrate)
+        }
         ["stop"] => {
             let mut stop = ops(pc::bridges_off(pc.pairs())?);
             stop.extend(ops(pc.emergency_stop()?));
@@ -714,9 +746,24 @@ mod tests {
               this one is lost; send it after the reset"
             ]
         );
-        // After the reset and before the calibration it is kept and acts once the gains
-        // arrive.
-        assert!(notes("reset\ndrive 1 100\ncalibrate\nwait 1").is_empty());
+        // After the reset and before a calibrate, which stops every running board while it
+        // runs: dropped too. The last one before each calibrate is named.
+        let dropped = |at: usize, by: usize| {
+            format!(
+                "line {at} sends a demand that the `calibrate` on line {by} drops: it stops \
+                 every running board while it runs, and then each drive aims for 0 and each \
+                 steer and lift holds where it stands; send demands after the calibrate"
+            )
+        };
+        assert_eq!(
+            notes("reset\ndrive 1 100\nsteer 1 5\ncalibrate\nwait 1"),
+            [dropped(3, 4)]
+        );
+        assert_eq!(
+            notes("reset\ncalibrate\nlift 1 5\nwait 1\ncalibrate\nturn 3\ncalibrate\nwait 1"),
+            [dropped(3, 5), dropped(6, 7)]
+        );
+        assert!(notes("reset\ncalibrate\ndrive 1 100\nwait 1").is_empty());
         // No demand, nothing to note.
         assert!(notes("calibrate\nwait 1").is_empty());
         // A demand after a stop, whose gains are 0, until a calibrate: noted once a stop.
@@ -725,9 +772,7 @@ mod tests {
             [
                 "line 6 sends a demand after the `stop` on line 5, which set every motor's \
                  gains to 0 until a `calibrate`, so it moves nothing before one; put \
-                 `calibrate` after the stop, once the steer and lift demands you want are \
-                 sent (the stop leaves each position held on its own ±100 scale, which a \
-                 calibrate alone reads as degrees)"
+                 `calibrate` after the stop, before the demands"
             ]
         );
         assert_eq!(
