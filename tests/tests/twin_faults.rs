@@ -9,7 +9,8 @@
 //! status shows each board's LEDs and bridges as the bench would, and what is injected; the
 //! original library's emergency stop, aborted by a silent controller, still stops the rover;
 //! a controller that panics stops the rover before its watchdog reboots it; hostctl's
-//! `stop` cuts every bridge and leaves no board in exception.
+//! `stop` cuts every bridge and leaves no board in exception, and fails naming a board that
+//! ignores it; hostctl's `calibrate` after it holds every steer and lift where it stands.
 //!
 //! NEEDS THE REAL SLAVE IMAGES (and the master's ping, spreading, temperature and RC code):
 //! with stub slaves nothing answers on the bus and the first configuration of a read set
@@ -892,5 +893,39 @@ fn the_status_shows_each_board_as_the_bench_would() {
         let motors = line.split_once("; ").map_or("", |(_, m)| m);
         let off: Vec<bool> = motors.split(", ").map(|m| m.ends_with(" off")).collect();
         assert_eq!(off, [true, true], "{line}");
+    }
+}
+
+#[test]
+fn hostctls_stop_fails_naming_a_board_that_masks_remoteslave() {
+    // Controller 4 masks REMOTESLAVE (DISABLEDEXCEPTIONS bit 3): it ignores the stop's
+    // REG_EXCEPTIONDATA and its drive keeps power. The line fails naming it; every other
+    // board was stopped and released.
+    let mut s = watched_while_driving();
+    let error = hostctl_run(&mut s, "masked", "write 4 disabledexceptions 8\nstop\n")
+        .expect_err("the stop fails");
+    assert!(
+        error.contains("line 2 (`stop`) failed: controller(s) 4 ignored the stop"),
+        "{error}"
+    );
+    let snap = s.update();
+    for n in 1..=9 {
+        assert_eq!(
+            slave_exception(&snap, n),
+            None,
+            "controller {n} in exception"
+        );
+    }
+    // A second on: its wheel (3) still driven under the stop's zero gains, decaying ×0.96
+    // a window; every other wheel coasted down unpowered.
+    s.pass(1.0);
+    let speeds = physical_speeds(&s);
+    println!("1 s after the stop, ticks/s: {speeds:?}");
+    for (w, v) in WHEELS.zip(&speeds) {
+        if w == 3 {
+            assert!(*v > 500.0, "wheel 3 at {v}");
+        } else {
+            assert!(v.abs() < 50.0, "wheel {w} at {v}");
+        }
     }
 }
