@@ -186,6 +186,22 @@ impl Pty {
         self.pump_end(avr)
     }
 
+    /// Drops the bytes host programs wrote that are not read yet: at a reset of the board
+    /// they would otherwise reach its next boot, where on an Uno they reach the old
+    /// session's firmware or its bootloader, never the next session's.
+    pub fn discard_input(&mut self) -> io::Result<()> {
+        let mut buf = [0u8; 512];
+        loop {
+            match self.controller.read(&mut buf) {
+                Ok(0) => return Ok(()),
+                Ok(_) => {}
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => return Ok(()),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
     /// [`Pty::pump`] for any [`SerialEnd`], e.g. a twin that models the line between the
     /// host and the chip (lost bytes) or whose chip sits inside a bus.
     pub fn pump_end(&mut self, end: &mut dyn SerialEnd) -> io::Result<()> {

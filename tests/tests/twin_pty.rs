@@ -622,3 +622,59 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     let _ = std::fs::remove_dir_all(&dir);
     twin.finish();
 }
+
+/// Steps `server` through `ms` of emulated time, then takes what the host side can read.
+fn step_and_read(server: &mut Server, port: &mut std::fs::File, ms: u64) -> Vec<u8> {
+    use std::io::Read;
+    let mut got = Vec::new();
+    for _ in 0..ms {
+        server.step().expect("the twin steps");
+        let mut buf = [0u8; 256];
+        loop {
+            match port.read(&mut buf) {
+                Ok(n) if n > 0 => got.extend_from_slice(&buf[..n]),
+                _ => break,
+            }
+        }
+    }
+    got
+}
+
+#[test]
+fn bytes_a_program_wrote_before_closing_never_reach_the_next_session() {
+    use std::io::Write;
+    use std::os::unix::fs::OpenOptionsExt;
+    let rover = Rover::new().expect("the twin builds (run scripts/firmware.sh)");
+    let pty = Pty::open().expect("a pty");
+    let path = pty.path().to_path_buf();
+    let mut server = Server::new(rover, pty, None, false);
+    let open = || {
+        std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(nix::libc::O_NONBLOCK)
+            .open(&path)
+            .expect("the pty opens")
+    };
+    // A program opens the port, writes REGMASTER_PCTIMEOUT = 300 (the PC-silence failsafe)
+    // and closes it, HUPCL set, before the twin looks: its bytes wait in the pty.
+    let mut first = open();
+    first
+        .write_all(&[0x06, 0x02, 0x01, 0x0f, 0x2c, 0x01])
+        .unwrap();
+    drop(first);
+    // The next program opens the port: the banner, and nothing after it.
+    let mut next = open();
+    let banner = step_and_read(&mut server, &mut next, 2_000);
+    let text = String::from_utf8_lossy(&banner);
+    assert!(text.ends_with("Ready\r\n"), "{text:?}");
+    // PCTIMEOUT (master register 15) reads as its boot value 0, through read set 7.
+    next.write_all(&[0x04, 0x04, 0x07, 0x0f]).unwrap();
+    assert_eq!(step_and_read(&mut server, &mut next, 20), [0x01]);
+    next.write_all(&[0x03, 0x03, 0x07]).unwrap();
+    assert_eq!(
+        step_and_read(&mut server, &mut next, 20),
+        [0x00, 0x00],
+        "the failsafe is off: the old program's write died with its session"
+    );
+}

@@ -6,7 +6,8 @@
 //! `--seconds` of emulated time have passed, or (with `--idle-exit`) no program has had the
 //! port open for a while; then it removes its link and control socket. Opening the port
 //! resets the master, as the Uno's DTR auto-reset does, and so does closing it with HUPCL
-//! set (the port's default: DTR drops). Faults are injected at start
+//! set (the port's default: DTR drops); bytes not yet taken by the master die with the
+//! reset. Faults are injected at start
 //! (`--fault`) or while it runs (`twin inject CMD…`, over the control socket `<link>.ctl`).
 
 use std::io::Write;

@@ -57,6 +57,15 @@ pub fn handle(rover: &mut Rover, line: &str) -> String {
     }
 }
 
+/// A failure of `pty`'s file.
+fn pty_failed(pty: &Pty, source: std::io::Error) -> TwinError {
+    TwinError::Io {
+        what: "the pty failed:",
+        path: pty.path().to_path_buf(),
+        source,
+    }
+}
+
 impl Server {
     /// Serves `rover` on `pty`, paced to real time unless `paced` is false.
     pub fn new(rover: Rover, pty: Pty, control: Option<ControlSocket>, paced: bool) -> Server {
@@ -87,17 +96,15 @@ impl Server {
         // The Uno resets when DTR rises as a program opens the port (the auto-reset) and,
         // with HUPCL set, when it drops as the last one closes it (reference §4.1): the
         // master then hard-resets every slave, so a rover left driving stops with its
-        // program.
+        // program. Bytes a program wrote before the reset die with it: on the Uno they reach
+        // the old session's firmware or the bootloader, never the next session.
         if self.pty.take_dtr_reset() {
+            let discarded = self.pty.discard_input();
+            discarded.map_err(|e| pty_failed(&self.pty, e))?;
             self.rover.reset_master();
         }
-        self.pty
-            .pump_end(&mut self.rover)
-            .map_err(|source| TwinError::Io {
-                what: "the pty failed:",
-                path: self.pty.path().to_path_buf(),
-                source,
-            })
+        let pumped = self.pty.pump_end(&mut self.rover);
+        pumped.map_err(|e| pty_failed(&self.pty, e))
     }
 
     /// One turn: pump, run [`SLICE_US`], pump, answer the control socket (no pacing).
