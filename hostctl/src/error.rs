@@ -254,7 +254,7 @@ pub enum HostError {
 
     /// A watch with `--count` ended with a round that could not read some devices (exit
     /// status 3).
-    #[error("the watch ended without the values of device(s) {}: the last round had no answer from them or lost their reply on the serial line (its rows say which); a controller that does not answer is off the bus or unpowered", devices.iter().map(u8::to_string).collect::<Vec<_>>().join(", "))]
+    #[error("the watch ended without the values of device(s) {}: the last round had no answer from them or lost their reply on the serial line (its rows say which); a controller that does not answer is off the bus or unpowered", list(devices))]
     WatchEndedUnread {
         /// The devices whose row had no values in the last round.
         devices: Vec<u8>,
@@ -360,7 +360,7 @@ pub enum HostError {
 
     /// A `stop` left controllers running: each answered out of exception after its
     /// REG_EXCEPTIONDATA write, so its DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3).
-    #[error("controller(s) {} ignored the stop: each is out of exception after its REG_EXCEPTIONDATA write, so its DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3, value 8) and its bridges stay on, a drive decaying from its last duty under power. Clear the bit (`hostctl read N disabledexceptions`, then `hostctl write N disabledexceptions` with bit 3 off, in the script as a `write` line) and stop again, or cut the rover's power", devices.iter().map(u8::to_string).collect::<Vec<_>>().join(", "))]
+    #[error("controller(s) {} ignored the stop: out of exception after its REG_EXCEPTIONDATA write, each masks REMOTESLAVE in its DISABLEDEXCEPTIONS (bit 3, value 8), so its bridges stayed on, a drive decaying from its last duty under power. The run ends here, and closing the port reboots the rover, which stops it (each boot clears DISABLEDEXCEPTIONS). Leave bit 3 clear in the script's `write … disabledexceptions` lines to keep `stop` working", list(devices))]
     StopIgnored {
         /// The controllers still running.
         devices: Vec<u8>,
@@ -368,12 +368,21 @@ pub enum HostError {
 
     /// A `calibrate` could not stop a running controller before its frames, so none was
     /// sent.
-    #[error("no calibration sent: controller {device} could not be stopped first ({source}); the controllers stopped before it stay stopped (REMOTESLAVE) until a `reset` line")]
+    #[error("no calibration sent: controller {device} could not be stopped first ({source}). The run ends here, and closing the port reboots the rover, which stops every board")]
     CalibrateNotHeld {
         /// The controller whose REG_EXCEPTIONDATA write failed.
         device: u8,
         /// Why.
         source: Box<HostError>,
+    },
+
+    /// REG_RESET writes that would let stopped controllers run again were refused.
+    #[error("controller(s) {} stay stopped: the REG_RESET that releases each was refused (the first: {first}). The run ends here, and closing the port reboots the rover", list(devices))]
+    ReleaseRefused {
+        /// The controllers whose REG_RESET was refused.
+        devices: Vec<u8>,
+        /// The first refusal.
+        first: Box<HostError>,
     },
 
     /// The set-read-set reply was not the register count.
@@ -579,4 +588,13 @@ impl Allowed {
     fn span(&self) -> String {
         format!("{}..{}{}", self.min, self.max, self.unit)
     }
+}
+
+/// Controllers in words: "2, 7".
+pub(crate) fn list(devices: &[u8]) -> String {
+    devices
+        .iter()
+        .map(u8::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }

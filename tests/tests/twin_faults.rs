@@ -900,7 +900,8 @@ fn the_status_shows_each_board_as_the_bench_would() {
 fn hostctls_stop_fails_naming_a_board_that_masks_remoteslave() {
     // Controller 4 masks REMOTESLAVE (DISABLEDEXCEPTIONS bit 3): it ignores the stop's
     // REG_EXCEPTIONDATA and its drive keeps power. The line fails naming it; every other
-    // board was stopped and released.
+    // board was stopped and released. (hostctl's exit would then close the port and reboot
+    // the rover; this session keeps it open, to show what the failure reports.)
     let mut s = watched_while_driving();
     let error = hostctl_run(&mut s, "masked", "write 4 disabledexceptions 8\nstop\n")
         .expect_err("the stop fails");

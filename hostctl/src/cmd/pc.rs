@@ -62,6 +62,11 @@ impl Pairs {
         device == 0 || ((1..=9).contains(&device) && self.has((device - 1) / 3))
     }
 
+    /// The fitted controllers (1..=9), in order.
+    pub fn devices(self) -> impl Iterator<Item = u8> {
+        (1..=9).filter(move |&d| self.has_device(d))
+    }
+
     /// The fitted wheels, in order.
     pub fn wheels(self) -> impl Iterator<Item = u8> {
         WHEELS.filter(move |&w| self.has_wheel(w))

@@ -44,7 +44,7 @@ use super::live::{
 use super::pc::{self, Motor, Op, Pairs, Pc};
 use super::script::{self, Action, Line};
 use super::{configure, set_frame, Reading, SetRead};
-use crate::error::HostError;
+use crate::error::{list, HostError};
 use crate::exception::Exception;
 use crate::json;
 use crate::link::Link;
@@ -342,7 +342,16 @@ struct Session {
     /// Whether a write went out after it.
     sent_since_last: bool,
     /// The controllers a `calibrate` stopped while it runs ([`Action::Freeze`]).
-    frozen: Vec<u8>,
+    frozen: Frozen,
+}
+
+/// The controllers a `calibrate`'s start stopped ([`Action::Freeze`]).
+#[derive(Debug, Clone, Default)]
+struct Frozen {
+    /// Those it read running.
+    stopped: Vec<u8>,
+    /// Those whose reply the serial line lost: stopped in case they ran.
+    unread: Vec<u8>,
 }
 
 /// The values of the `show` sets at one update: each set's device and its registers with
@@ -605,10 +614,8 @@ fn act<P: Port>(
         Action::Release => {
             let now = poller.update(link)?;
             session.dropped.note(&now, &line.pc);
-            for device in in_remote_exception(&now, line.pc.pairs()) {
-                let reset = Action::Op(pc::reset_of(device)?);
-                act(&reset, link, clock, poller, line, session, output)?;
-            }
+            let remote = in_remote_exception(&now, line.pc.pairs());
+            release(&remote, link, clock, poller, line, session, output)?;
             let ignored = running(&now, line.pc.pairs());
             if !ignored.is_empty() {
                 return Err(HostError::StopIgnored { devices: ignored });
@@ -617,7 +624,16 @@ fn act<P: Port>(
         Action::Freeze => {
             let now = poller.update(link)?;
             session.dropped.note(&now, &line.pc);
-            for device in running(&now, line.pc.pairs()) {
+            let mut frozen = Frozen::default();
+            // A board whose state the line lost may be running: stopped too (a board in an
+            // exception ignores the write), but never released, as it may have been in
+            // REMOTESLAVE already.
+            let unread = line.pc.pairs().devices().filter(|d| now.lost().contains(d));
+            let stops = running(&now, line.pc.pairs())
+                .into_iter()
+                .map(|d| (d, false))
+                .chain(unread.map(|d| (d, true)));
+            for (device, unread) in stops {
                 let stop = Action::Op(pc::bridge_off(device)?);
                 act(&stop, link, clock, poller, line, session, output).map_err(|source| {
                     HostError::CalibrateNotHeld {
@@ -625,7 +641,13 @@ fn act<P: Port>(
                         source: Box::new(source),
                     }
                 })?;
-                session.frozen.push(device);
+                if unread {
+                    frozen.unread.push(device);
+                } else {
+                    frozen.stopped.push(device);
+                }
+                // Kept as it goes: the thaw must know of each board stopped so far.
+                session.frozen = frozen.clone();
             }
         }
         Action::Thaw => thaw(link, clock, poller, line, session, output)?,
@@ -643,8 +665,9 @@ fn act<P: Port>(
 
 /// The end of a `calibrate` ([`Action::Thaw`]): each controller its start stopped, and
 /// that `now` shows in REMOTESLAVE, leaves it (REG_RESET 1), unless the master may have
-/// stopped them itself meanwhile: a controller stopped gone silent, or the master holding
-/// an exception that stops the rover. Each left stopped, or that ignored the stop (its
+/// stopped the rover meanwhile: a fitted controller silent, or the master holding an
+/// exception other than its boot state (or its state unread). A board its start could not
+/// read stays stopped. Each left stopped, and each that ignored the stop (its
 /// DISABLEDEXCEPTIONS masks REMOTESLAVE), is named in a note.
 fn thaw<P: Port>(
     link: &mut Link<P>,
@@ -655,67 +678,107 @@ fn thaw<P: Port>(
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let frozen = std::mem::take(&mut session.frozen);
-    if frozen.is_empty() {
+    if frozen.stopped.is_empty() && frozen.unread.is_empty() {
         return Ok(());
     }
     let now = poller.update(link)?;
     session.dropped.note(&now, &line.pc);
-    let list = |devices: &[u8]| {
-        devices
-            .iter()
-            .map(u8::to_string)
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let silent: Vec<u8> = frozen
-        .iter()
-        .copied()
+    let pairs = line.pc.pairs();
+    let silent: Vec<u8> = pairs
+        .devices()
         .filter(|d| now.silent().contains(d))
         .collect();
     let why = if !silent.is_empty() {
-        Some(format!("controller(s) {} stopped answering", list(&silent)))
+        Some(format!("controller(s) {} not answering", list(&silent)))
     } else {
         master_stops(&now)
     };
+    let remote = in_remote_exception(&now, pairs);
+    let held: Vec<u8> = frozen
+        .stopped
+        .iter()
+        .chain(&frozen.unread)
+        .copied()
+        .filter(|d| remote.contains(d))
+        .collect();
     if let Some(why) = why {
         let note = format!(
-            "the calibrate leaves controller(s) {} stopped (REMOTESLAVE): {why}, so the \
-             master may have stopped them; a `reset` line releases them once the cause is gone",
-            list(&frozen)
+            "the calibrate leaves the controllers it stopped ({}) in REMOTESLAVE: {why}, so \
+             the master may have stopped the rover itself; a `reset` line releases them once \
+             the cause is gone",
+            list(&held)
         );
         return say_note(&note, line, output);
     }
-    let remote = in_remote_exception(&now, line.pc.pairs());
-    for &device in frozen.iter().filter(|d| remote.contains(d)) {
-        let reset = Action::Op(pc::reset_of(device)?);
-        act(&reset, link, clock, poller, line, session, output)?;
+    let (unread, stopped): (Vec<u8>, Vec<u8>) =
+        held.iter().partition(|d| frozen.unread.contains(d));
+    let released = release(&stopped, link, clock, poller, line, session, output);
+    if !unread.is_empty() {
+        let note = format!(
+            "the calibrate leaves controller(s) {} in REMOTESLAVE: the serial line lost \
+             their state before it, so each was stopped in case it ran, and stays stopped \
+             (it may have been stopped before); a `reset` line releases it",
+            list(&unread)
+        );
+        say_note(&note, line, output)?;
     }
-    let ignored: Vec<u8> = running(&now, line.pc.pairs())
+    let ignored: Vec<u8> = running(&now, pairs)
         .into_iter()
-        .filter(|d| frozen.contains(d))
+        .filter(|d| frozen.stopped.contains(d) || frozen.unread.contains(d))
         .collect();
-    if ignored.is_empty() {
-        return Ok(());
+    if !ignored.is_empty() {
+        let note = format!(
+            "controller(s) {} ignored the calibrate's stop (DISABLEDEXCEPTIONS masks \
+             REMOTESLAVE, bit 3): their motors ran on through it, a drive toward its demand \
+             on the new gains, a steer or lift perhaps to the number it held, read on the new \
+             calibration",
+            list(&ignored)
+        );
+        say_note(&note, line, output)?;
     }
-    let note = format!(
-        "controller(s) {} ignored the calibrate's stop (DISABLEDEXCEPTIONS masks \
-         REMOTESLAVE, bit 3): their steers or lifts were not held still, and may have turned \
-         to the number they held, read on the new calibration; send their demands now",
-        list(&ignored)
-    );
-    say_note(&note, line, output)
+    released
+}
+
+/// REG_RESET 1 to each of `devices`: each tried, the first refusal returned after them.
+fn release<P: Port>(
+    devices: &[u8],
+    link: &mut Link<P>,
+    clock: &mut dyn Clock,
+    poller: &Poller,
+    line: &Line,
+    session: &mut Session,
+    output: &mut Output<'_>,
+) -> Result<(), HostError> {
+    let mut refused = Vec::new();
+    let mut first = None;
+    for &device in devices {
+        let reset = Action::Op(pc::reset_of(device)?);
+        match act(&reset, link, clock, poller, line, session, output) {
+            Err(e @ HostError::WriteRefused { .. }) => {
+                refused.push(device);
+                first.get_or_insert(e);
+            }
+            other => other?,
+        }
+    }
+    match first {
+        None => Ok(()),
+        Some(first) => Err(HostError::ReleaseRefused {
+            devices: refused,
+            first: Box::new(first),
+        }),
+    }
 }
 
 /// Why the master may have stopped the rover, from the exception `now` shows it holding:
-/// any but none, its boot state and a missing temperature sensor, which stop no motor.
-/// Its state unread counts too.
+/// any but none and its boot state (a missing temperature sensor stops every motor too).
+/// Its state unread counts as well.
 fn master_stops(now: &Snapshot) -> Option<String> {
     let Some(raw) = now.raw(0, id::REGMASTER_EXCEPTIONDATA) else {
         return Some("the master's state was not read".to_owned());
     };
     let e = Exception::master(raw);
-    let harmless = [ExceptionType::Boot, ExceptionType::SensorMissing];
-    if e.is_none() || harmless.iter().any(|&t| e.code == t as u8) {
+    if e.is_none() || e.code == ExceptionType::Boot as u8 {
         return None;
     }
     Some(format!("the master holds an exception ({})", e.words()))
@@ -1049,9 +1112,9 @@ mod tests {
         let message = ran.result.unwrap_err().to_string();
         assert!(
             message.starts_with(
-                "t.rover line 1 (`stop`) failed: controller(s) 2, 7 ignored the stop: each is \
-                 out of exception after its REG_EXCEPTIONDATA write, so its \
-                 DISABLEDEXCEPTIONS masks REMOTESLAVE (bit 3, value 8) and its bridges stay on"
+                "t.rover line 1 (`stop`) failed: controller(s) 2, 7 ignored the stop: out of \
+                 exception after its REG_EXCEPTIONDATA write, each masks REMOTESLAVE in its \
+                 DISABLEDEXCEPTIONS (bit 3, value 8), so its bridges stayed on"
             ),
             "{message}"
         );
@@ -1107,25 +1170,39 @@ mod tests {
 
     #[test]
     fn a_calibrate_leaves_the_boards_stopped_when_the_master_may_have_stopped_them() {
-        // The master holds SLAVESILENT naming controller 4 (0x040b) at the end: it has sent
-        // every board into REMOTESLAVE, and the calibrate must not undo that.
-        let mut thaw = remote_but(&[]);
-        thaw[9][20..22].copy_from_slice(&0x040bu16.to_le_bytes());
-        let ran = calibrate_over(9, update_replies(), thaw, 0);
-        ran.result.unwrap();
-        assert_eq!(ran.hex.len(), 10 + 10 + 9 + 30 + 10, "no REG_RESET");
-        assert!(
-            ran.text.contains(
-                "\nnote: the calibrate leaves controller(s) 1, 2, 3, 4, 5, 6, 7, 8, 9 stopped \
-                 (REMOTESLAVE): the master holds an exception (slave not answering on controller 4, \
-                 the whole board), so the master may have stopped them; a `reset` line releases \
-                 them once the cause is gone\n"
+        let stopped = |why: &str| {
+            format!(
+                "\nnote: the calibrate leaves the controllers it stopped ({}) in REMOTESLAVE: \
+                 {why}, so the master may have stopped the rover itself; a `reset` line \
+                 releases them once the cause is gone\n",
+                "1, 2, 3, 4, 5, 6, 7, 8, 9"
+            )
+        };
+        // The master holds SLAVESILENT naming controller 4 (0x040b), or a missing
+        // temperature sensor (0x000a), at the end: it has sent every board into
+        // REMOTESLAVE, and the calibrate must not undo that.
+        for (raw, why) in [
+            (
+                0x040bu16,
+                "the master holds an exception (slave not answering on controller 4, the \
+                 whole board)",
             ),
-            "{}",
-            ran.text
-        );
-        // A controller stopped that no longer answers: the same, naming it.
+            (
+                0x000a,
+                "the master holds an exception (temperature sensor missing)",
+            ),
+        ] {
+            let mut thaw = remote_but(&[]);
+            thaw[9][20..22].copy_from_slice(&raw.to_le_bytes());
+            let ran = calibrate_over(9, update_replies(), thaw, 0);
+            ran.result.unwrap();
+            assert_eq!(ran.hex.len(), 10 + 10 + 9 + 30 + 10, "no REG_RESET");
+            assert!(ran.text.contains(&stopped(why)), "{}", ran.text);
+        }
+        // A controller that no longer answers (the master spreads its silence even from
+        // its boot state): the same, naming it; the list holds those read in REMOTESLAVE.
         let mut thaw = remote_but(&[]);
+        thaw[9][20..22].copy_from_slice(&0x0002u16.to_le_bytes());
         thaw.remove(1);
         thaw.insert(1, vec![]);
         thaw.insert(2, vec![2]);
@@ -1134,8 +1211,8 @@ mod tests {
         ran.result.unwrap();
         assert!(
             ran.text.contains(
-                "\nnote: the calibrate leaves controller(s) 1, 2, 3, 4, 5, 6, 7, 8, 9 stopped \
-                 (REMOTESLAVE): controller(s) 2 stopped answering, so the master"
+                "\nnote: the calibrate leaves the controllers it stopped (1, 3, 4, 5, 6, 7, 8, \
+                 9) in REMOTESLAVE: controller(s) 2 not answering, so the master"
             ),
             "{}",
             ran.text
@@ -1147,7 +1224,7 @@ mod tests {
         let ran = calibrate_over(9, update_replies(), thaw, 0);
         assert!(
             ran.text
-                .contains("(REMOTESLAVE): the master's state was not read, so"),
+                .contains("in REMOTESLAVE: the master's state was not read, so"),
             "{:?}\n{}",
             ran.result,
             ran.text
@@ -1164,10 +1241,64 @@ mod tests {
         assert!(
             ran.text.contains(
                 "\nnote: controller(s) 8 ignored the calibrate's stop (DISABLEDEXCEPTIONS \
-                 masks REMOTESLAVE, bit 3): their steers or lifts were not held still"
+                 masks REMOTESLAVE, bit 3): their motors ran on through it, a drive toward its \
+                 demand on the new gains"
             ),
             "{}",
             ran.text
+        );
+    }
+
+    #[test]
+    fn a_calibrate_stops_a_board_whose_state_the_line_lost_and_keeps_it_stopped() {
+        // Controller 5's reply is lost at the start: it may run, so it is stopped too, and
+        // as it may have been in REMOTESLAVE before, it is not released.
+        let mut start = update_replies();
+        start.remove(4);
+        start.insert(4, vec![]);
+        start.insert(5, vec![0x02]);
+        start.insert(6, vec![0x00, 0x00, 0x00]);
+        let ran = calibrate_over(9, start, remote_but(&[]), 8);
+        ran.result.unwrap();
+        let sent = &ran.hex[10..];
+        // The eight running boards, then the one unread.
+        let stops: Vec<&String> = sent.iter().filter(|f| f.ends_with("01 05 00 00")).collect();
+        assert_eq!(stops.len(), 9, "{sent:?}");
+        assert_eq!(stops[8], "06 52 01 05 00 00", "the unread board last");
+        let resets: Vec<&String> = sent.iter().filter(|f| f.ends_with("01 00 01")).collect();
+        assert_eq!(resets.len(), 8, "{sent:?}");
+        assert!(
+            !resets.contains(&&"05 52 01 00 01".to_owned()),
+            "{resets:?}"
+        );
+        assert!(
+            ran.text.contains(
+                "\nnote: the calibrate leaves controller(s) 5 in REMOTESLAVE: the serial line \
+                 lost their state before it"
+            ),
+            "{}",
+            ran.text
+        );
+    }
+
+    #[test]
+    fn a_refused_release_tries_the_others_and_says_which_stay_stopped() {
+        // Controller 2 refuses its REG_RESET; 3..9 are still released.
+        let mut replies = configure_replies();
+        replies.extend(update_replies());
+        replies.extend(std::iter::repeat_n(vec![0], 9 + 30));
+        replies.extend(remote_but(&[]));
+        replies.extend([vec![0], vec![0x8c]]);
+        replies.extend(std::iter::repeat_n(vec![0], 7));
+        let ran = run_script("calibrate\n", &replies, false);
+        assert_eq!(ran.hex.len(), 10 + 10 + 9 + 30 + 10 + 9, "{:?}", ran.hex);
+        let message = ran.result.unwrap_err().to_string();
+        assert!(
+            message.starts_with(
+                "t.rover line 1 (`calibrate`) failed: controller(s) 2 stay stopped: the \
+                 REG_RESET that releases each was refused (the first: device 2 refused"
+            ),
+            "{message}"
         );
     }
 
@@ -1190,7 +1321,8 @@ mod tests {
         );
         assert!(
             message.ends_with(
-                "the controllers stopped before it stay stopped (REMOTESLAVE) until a `reset` line"
+                "The run ends here, and closing the port reboots the rover, which stops every \
+                 board"
             ),
             "{message}"
         );

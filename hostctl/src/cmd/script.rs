@@ -7,7 +7,7 @@
 //! | Line | What it does |
 //! |---|---|
 //! | `reset` | resetExceptions(): REG_RESET = 1 to controllers 1..9, then the master (§8.5) |
-//! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses, while every running board is stopped (REG_EXCEPTIONDATA first, REG_RESET 1 after): each steer and lift then holds where it stands on its new calibration, where the library's call alone turns it to the number it held, read on the new scale; each drive aims for 0. Demands sent before it are dropped. Boards it finds in exception (boot included) are left as they are; when the master may have stopped the rover meanwhile (it holds an exception that stops it, or a board stopped no longer answers) the boards stay stopped until a `reset`, with a note |
+//! | `calibrate` | Rover::calibrate(): the §8.3 parameter and calibration frames, with their pauses, while every running board is stopped (REG_EXCEPTIONDATA first, REG_RESET 1 after): each steer and lift then holds where it stands on its new calibration, where the library's call alone turns it to the number it held, read on the new scale; each drive aims for 0. Demands sent before it are dropped. Boards it finds in exception (boot included) are left as they are; when the master may have stopped the rover meanwhile (it holds an exception other than its boot state, or a board does not answer) the boards stay stopped until a `reset`, with a note, as does a board whose state the serial line lost at the start |
 //! | `write DEV REG VALUE` | One register write, as `hostctl write` (checked against the register's range only, not the library's position limits) |
 //! | `drive W\|all SPEED` | Drive speed demand (ticks/s) on wheel W or all six |
 //! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
@@ -286,9 +286,10 @@ fn speed_notes(lines: &[Line]) -> Vec<String> {
 /// Demands a `stop` or a `calibrate` leaves without effect. After a `stop` with no
 /// `calibrate` (or `write`, which may set gains) between them: the stop sends every motor
 /// the library's default block, whose gains are 0 (reference §10.3), so the demand moves
-/// nothing. Before a `calibrate`, once a `reset` has let the boards run: the calibrate
-/// stops every running board while it runs, which drops its demands (a drive then aims
-/// for 0, a steer or lift holds where it stands), so the last such demand is named.
+/// nothing. Before a `calibrate`, once a `reset` has let the boards run (and no `stop`
+/// has dropped them since): the calibrate stops every running board while it runs, which
+/// drops its demands (a drive then aims for 0, a steer or lift holds where it stands), so
+/// the last such demand is named, whether or not a wait let it act first.
 fn stop_and_calibrate_notes(lines: &[Line]) -> Vec<String> {
     let word = |l: &Line| command_word(&l.text);
     let mut notes = Vec::new();
@@ -297,17 +298,21 @@ fn stop_and_calibrate_notes(lines: &[Line]) -> Vec<String> {
     let mut demand = None;
     for line in lines {
         match word(line).as_str() {
-            "stop" => stop = Some(line.number),
+            "stop" => {
+                // The stop drops every demand itself.
+                stop = Some(line.number);
+                demand = None;
+            }
             "reset" => reset = true,
             "write" => stop = None,
             "calibrate" => {
                 stop = None;
                 if let Some(at) = demand.take() {
                     notes.push(format!(
-                        "line {at} sends a demand that the `calibrate` on line {} drops: it \
-                         stops every running board while it runs, and then each drive aims \
-                         for 0 and each steer and lift holds where it stands; send demands \
-                         after the calibrate",
+                        "the `calibrate` on line {} drops the demands before it (the last on \
+                         line {at}): it stops every running board while it runs, and then \
+                         each drive aims for 0 and each steer and lift holds where it stands; \
+                         send the demands you want after it",
                         line.number
                     ));
                 }
@@ -750,9 +755,10 @@ mod tests {
         // runs: dropped too. The last one before each calibrate is named.
         let dropped = |at: usize, by: usize| {
             format!(
-                "line {at} sends a demand that the `calibrate` on line {by} drops: it stops \
-                 every running board while it runs, and then each drive aims for 0 and each \
-                 steer and lift holds where it stands; send demands after the calibrate"
+                "the `calibrate` on line {by} drops the demands before it (the last on line \
+                 {at}): it stops every running board while it runs, and then each drive aims \
+                 for 0 and each steer and lift holds where it stands; send the demands you \
+                 want after it"
             )
         };
         assert_eq!(
@@ -764,6 +770,12 @@ mod tests {
             [dropped(3, 5), dropped(6, 7)]
         );
         assert!(notes("reset\ncalibrate\ndrive 1 100\nwait 1").is_empty());
+        // A stop drops the demands itself: a calibrate after it, as its note advises, is
+        // not noted.
+        assert!(notes(
+            "calibrate\nreset\nsteer all 20\nwait 3\nstop\ncalibrate\nsteer all 5\nwait 1"
+        )
+        .is_empty());
         // No demand, nothing to note.
         assert!(notes("calibrate\nwait 1").is_empty());
         // A demand after a stop, whose gains are 0, until a calibrate: noted once a stop.
