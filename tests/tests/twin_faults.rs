@@ -26,12 +26,31 @@ use shared::regs::id;
 use twin::wiring::Axis;
 use twin_support::{drive_speed, master_exception, rover, slave_exception, Session};
 
-/// A session calibrated, with exceptions reset, all six drives asked for 1000 ticks/s and
-/// turning at more than half of it.
-fn driving() -> Session {
+/// Checks, by one update(), that no controller is in an exception; returns that update.
+fn no_board_in_exception(s: &mut Session) -> Snapshot {
+    let snap = s.update();
+    for n in 1..=9 {
+        assert_eq!(
+            slave_exception(&snap, n),
+            None,
+            "controller {n} in exception"
+        );
+    }
+    snap
+}
+
+/// A session calibrated, with exceptions reset.
+fn calibrated() -> Session {
     let mut s = Session::start();
     s.calibrate();
     s.reset_exceptions();
+    s
+}
+
+/// A session calibrated, with exceptions reset, all six drives asked for 1000 ticks/s and
+/// turning at more than half of it.
+fn driving() -> Session {
+    let mut s = calibrated();
     let all: Vec<(u8, f32)> = WHEELS.map(|w| (w, 1000.0)).collect();
     s.set(Motor::Drive, &all);
     let (ok, snap, took) = s.until(5.0, |s| (1..=6).all(|w| drive_speed(s, w) > 500.0));
@@ -178,9 +197,7 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
 fn a_controller_driven_and_lost_before_the_first_ping_is_found_by_it() {
     // Driving before the master's watch starts (5 s after its boot), and controller 4
     // (wheel 3's drive and steer) drops off the bus before it.
-    let mut s = Session::start();
-    s.calibrate();
-    s.reset_exceptions();
+    let mut s = calibrated();
     let all: Vec<(u8, f32)> = WHEELS.map(|w| (w, 500.0)).collect();
     s.set(Motor::Drive, &all);
     s.update();
@@ -654,14 +671,7 @@ fn hostctls_stop_cuts_every_bridge_and_leaves_no_board_in_exception() {
     // At its end every bridge is off (the library's stop alone left each drive near its
     // cruising duty), and no board is left in an exception.
     assert!(every_motor_stopped(&s), "a motor still driven");
-    let snap = s.update();
-    for n in 1..=9 {
-        assert_eq!(
-            slave_exception(&snap, n),
-            None,
-            "controller {n} in exception"
-        );
-    }
+    let snap = no_board_in_exception(&mut s);
     assert_eq!(master_exception(&snap), 0);
     // The wheels coast unpowered, and nothing drives them again.
     all_at_rest_after(&mut s, 1.0);
@@ -699,9 +709,7 @@ fn a_calibrate_after_hostctls_stop_holds_every_steer_and_lift_where_it_stands() 
     // every position on -100..100) and a `calibrate`. The library's calibrate alone turns
     // each to the number it held on the stop's scale, now read as degrees; hostctl's holds
     // each board stopped while it runs, so each holds where it stands on the new scale.
-    let mut s = Session::start();
-    s.calibrate();
-    s.reset_exceptions();
+    let mut s = calibrated();
     let steers: Vec<(u8, f32)> = WHEELS.map(|w| (w, 20.0)).collect();
     let lifts: Vec<(u8, f32)> = WHEELS.map(|w| (w, 10.0)).collect();
     s.set(Motor::Steer, &steers);
@@ -735,19 +743,12 @@ fn a_calibrate_after_hostctls_stop_holds_every_steer_and_lift_where_it_stands() 
         );
     }
     // The boards run again, on the new calibration: the positions read in degrees.
-    let snap = s.update();
+    let snap = no_board_in_exception(&mut s);
     for w in WHEELS {
         let steer = f64::from(twin_support::steer_pos(&snap, w));
         assert!(
             (steer - after[usize::from(w - 1)].0).abs() < 1.5,
             "{w}: {steer}"
-        );
-    }
-    for n in 1..=9 {
-        assert_eq!(
-            slave_exception(&snap, n),
-            None,
-            "controller {n} in exception"
         );
     }
     // A demand moves it again.
@@ -909,14 +910,7 @@ fn hostctls_stop_fails_naming_a_board_that_masks_remoteslave() {
         error.contains("line 2 (`stop`) failed: controller(s) 4 ignored the stop"),
         "{error}"
     );
-    let snap = s.update();
-    for n in 1..=9 {
-        assert_eq!(
-            slave_exception(&snap, n),
-            None,
-            "controller {n} in exception"
-        );
-    }
+    no_board_in_exception(&mut s);
     // A second on: its wheel (3) still driven under the stop's zero gains, decaying ×0.96
     // a window; every other wheel coasted down unpowered.
     s.pass(1.0);

@@ -615,7 +615,9 @@ fn act<P: Port>(
             let now = poller.update(link)?;
             session.dropped.note(&now, &line.pc);
             let remote = in_remote_exception(&now, line.pc.pairs());
-            release(&remote, link, clock, poller, line, session, output)?;
+            release(&remote, |reset| {
+                act(reset, link, clock, poller, line, session, output)
+            })?;
             let ignored = running(&now, line.pc.pairs());
             if !ignored.is_empty() {
                 return Err(HostError::StopIgnored { devices: ignored });
@@ -650,7 +652,22 @@ fn act<P: Port>(
                 session.frozen = frozen.clone();
             }
         }
-        Action::Thaw => thaw(link, clock, poller, line, session, output)?,
+        Action::Thaw => {
+            let frozen = std::mem::take(&mut session.frozen);
+            if frozen.stopped.is_empty() && frozen.unread.is_empty() {
+                return Ok(());
+            }
+            let now = poller.update(link)?;
+            session.dropped.note(&now, &line.pc);
+            let thaw = Thaw::of(&frozen, &now, line.pc.pairs());
+            let released = release(&thaw.release, |reset| {
+                act(reset, link, clock, poller, line, session, output)
+            });
+            for note in &thaw.notes {
+                say_note(note, line, output)?;
+            }
+            released?;
+        }
         Action::Say(text) if output.json => {
             let say = event().int("line", number(line)).str("say", text);
             writeln!(output.out, "{}", say.finish()).map_err(HostError::Output)?;
@@ -663,97 +680,91 @@ fn act<P: Port>(
     Ok(())
 }
 
-/// The end of a `calibrate` ([`Action::Thaw`]): each controller its start stopped, and
-/// that `now` shows in REMOTESLAVE, leaves it (REG_RESET 1), unless the master may have
-/// stopped the rover meanwhile: a fitted controller silent, or the master holding an
-/// exception other than its boot state (or its state unread). A board its start could not
-/// read stays stopped. Each left stopped, and each that ignored the stop (its
-/// DISABLEDEXCEPTIONS masks REMOTESLAVE), is named in a note.
-fn thaw<P: Port>(
-    link: &mut Link<P>,
-    clock: &mut dyn Clock,
-    poller: &Poller,
-    line: &Line,
-    session: &mut Session,
-    output: &mut Output<'_>,
-) -> Result<(), HostError> {
-    let frozen = std::mem::take(&mut session.frozen);
-    if frozen.stopped.is_empty() && frozen.unread.is_empty() {
-        return Ok(());
-    }
-    let now = poller.update(link)?;
-    session.dropped.note(&now, &line.pc);
-    let pairs = line.pc.pairs();
-    let silent: Vec<u8> = pairs
-        .devices()
-        .filter(|d| now.silent().contains(d))
-        .collect();
-    let why = if !silent.is_empty() {
-        Some(format!("controller(s) {} not answering", list(&silent)))
-    } else {
-        master_stops(&now)
-    };
-    let remote = in_remote_exception(&now, pairs);
-    let held: Vec<u8> = frozen
-        .stopped
-        .iter()
-        .chain(&frozen.unread)
-        .copied()
-        .filter(|d| remote.contains(d))
-        .collect();
-    if let Some(why) = why {
-        let note = format!(
-            "the calibrate leaves the controllers it stopped ({}) in REMOTESLAVE: {why}, so \
-             the master may have stopped the rover itself; a `reset` line releases them once \
-             the cause is gone",
-            list(&held)
-        );
-        return say_note(&note, line, output);
-    }
-    let (unread, stopped): (Vec<u8>, Vec<u8>) =
-        held.iter().partition(|d| frozen.unread.contains(d));
-    let released = release(&stopped, link, clock, poller, line, session, output);
-    if !unread.is_empty() {
-        let note = format!(
-            "the calibrate leaves controller(s) {} in REMOTESLAVE: the serial line lost \
-             their state before it, so each was stopped in case it ran, and stays stopped \
-             (it may have been stopped before); a `reset` line releases it",
-            list(&unread)
-        );
-        say_note(&note, line, output)?;
-    }
-    let ignored: Vec<u8> = running(&now, pairs)
-        .into_iter()
-        .filter(|d| frozen.stopped.contains(d) || frozen.unread.contains(d))
-        .collect();
-    if !ignored.is_empty() {
-        let note = format!(
-            "controller(s) {} ignored the calibrate's stop (DISABLEDEXCEPTIONS masks \
-             REMOTESLAVE, bit 3): their motors ran on through it, a drive toward its demand \
-             on the new gains, a steer or lift perhaps to the number it held, read on the new \
-             calibration",
-            list(&ignored)
-        );
-        say_note(&note, line, output)?;
-    }
-    released
+/// What the end of a `calibrate` ([`Action::Thaw`]) does: each controller its start
+/// stopped, and that the update() after its frames shows in REMOTESLAVE, leaves it
+/// (REG_RESET 1), unless the master may have stopped the rover meanwhile: a fitted
+/// controller silent, or the master holding an exception other than its boot state (or
+/// its state unread). A board its start could not read stays stopped. Each left stopped,
+/// and each that ignored the stop (its DISABLEDEXCEPTIONS masks REMOTESLAVE), is named in
+/// a note.
+#[derive(Debug, PartialEq)]
+struct Thaw {
+    /// The controllers to release, in order.
+    release: Vec<u8>,
+    /// What to say.
+    notes: Vec<String>,
 }
 
-/// REG_RESET 1 to each of `devices`: each tried, the first refusal returned after them.
-fn release<P: Port>(
+impl Thaw {
+    /// The thaw of `frozen`, with `now` read after the calibration's frames.
+    fn of(frozen: &Frozen, now: &Snapshot, pairs: Pairs) -> Thaw {
+        let silent: Vec<u8> = pairs
+            .devices()
+            .filter(|d| now.silent().contains(d))
+            .collect();
+        let why = if !silent.is_empty() {
+            Some(format!("controller(s) {} not answering", list(&silent)))
+        } else {
+            master_stops(now)
+        };
+        let remote = in_remote_exception(now, pairs);
+        let held: Vec<u8> = frozen
+            .stopped
+            .iter()
+            .chain(&frozen.unread)
+            .copied()
+            .filter(|d| remote.contains(d))
+            .collect();
+        if let Some(why) = why {
+            let note = format!(
+                "the calibrate leaves the controllers it stopped ({}) in REMOTESLAVE: {why}, \
+                 so the master may have stopped the rover itself; a `reset` line releases \
+                 them once the cause is gone",
+                list(&held)
+            );
+            return Thaw {
+                release: Vec::new(),
+                notes: vec![note],
+            };
+        }
+        let (unread, release): (Vec<u8>, Vec<u8>) =
+            held.iter().partition(|d| frozen.unread.contains(d));
+        let mut notes = Vec::new();
+        if !unread.is_empty() {
+            notes.push(format!(
+                "the calibrate leaves controller(s) {} in REMOTESLAVE: the serial line lost \
+                 their state before it, so each was stopped in case it ran, and stays \
+                 stopped (it may have been stopped before); a `reset` line releases it",
+                list(&unread)
+            ));
+        }
+        let ignored: Vec<u8> = running(now, pairs)
+            .into_iter()
+            .filter(|d| frozen.stopped.contains(d) || frozen.unread.contains(d))
+            .collect();
+        if !ignored.is_empty() {
+            notes.push(format!(
+                "controller(s) {} ignored the calibrate's stop (DISABLEDEXCEPTIONS masks \
+                 REMOTESLAVE, bit 3): their motors ran on through it, a drive toward its \
+                 demand on the new gains, a steer or lift perhaps to the number it held, read \
+                 on the new calibration",
+                list(&ignored)
+            ));
+        }
+        Thaw { release, notes }
+    }
+}
+
+/// REG_RESET 1 to each of `devices` through `send`: each tried, the first refusal
+/// returned after them.
+fn release(
     devices: &[u8],
-    link: &mut Link<P>,
-    clock: &mut dyn Clock,
-    poller: &Poller,
-    line: &Line,
-    session: &mut Session,
-    output: &mut Output<'_>,
+    mut send: impl FnMut(&Action) -> Result<(), HostError>,
 ) -> Result<(), HostError> {
     let mut refused = Vec::new();
     let mut first = None;
     for &device in devices {
-        let reset = Action::Op(pc::reset_of(device)?);
-        match act(&reset, link, clock, poller, line, session, output) {
+        match send(&Action::Op(pc::reset_of(device)?)) {
             Err(e @ HostError::WriteRefused { .. }) => {
                 refused.push(device);
                 first.get_or_insert(e);
