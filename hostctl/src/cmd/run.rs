@@ -716,6 +716,14 @@ impl Thaw {
             .filter(|d| remote.contains(d))
             .collect();
         if let Some(why) = why {
+            // None of them in REMOTESLAVE (each in its own fault, or silent): nothing to
+            // hold back, and the view says why each is stopped.
+            if held.is_empty() {
+                return Thaw {
+                    release: Vec::new(),
+                    notes: Vec::new(),
+                };
+            }
             let note = format!(
                 "the calibrate leaves the controllers it stopped ({}) in REMOTESLAVE: {why}, \
                  so the master may have stopped the rover itself; a `reset` line releases \
@@ -808,8 +816,8 @@ fn say_note(note: &str, line: &Line, output: &mut Output<'_>) -> Result<(), Host
 
 /// The fitted controllers that `now` shows running: STATUS read, out of exception.
 fn running(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
-    (1..=9)
-        .filter(|&device| pairs.has_device(device))
+    pairs
+        .devices()
         .filter(|&device| now.raw(device, id::REG_STATUS).is_some())
         .filter(|&device| slave_exception(now, device).is_none())
         .collect()
@@ -1240,6 +1248,40 @@ mod tests {
             ran.result,
             ran.text
         );
+    }
+
+    #[test]
+    fn a_thaw_with_no_board_left_in_remoteslave_releases_and_says_nothing() {
+        // Controller 1, stopped at the start, raised its own overcurrent meanwhile, which
+        // the master latched (0x0101): nothing to release, and the view tells the rest.
+        let now = Snapshot::new(vec![
+            (
+                1,
+                vec![(id::REG_STATUS, 0x09), (id::REG_EXCEPTIONDATA, 0x0001)],
+            ),
+            (0, vec![(id::REGMASTER_EXCEPTIONDATA, 0x0101)]),
+        ]);
+        let frozen = Frozen {
+            stopped: vec![1],
+            unread: Vec::new(),
+        };
+        let thaw = Thaw::of(&frozen, &now, Pairs::ALL);
+        assert_eq!(
+            thaw,
+            Thaw {
+                release: Vec::new(),
+                notes: Vec::new()
+            }
+        );
+        // In REMOTESLAVE instead, with the master in its boot state: released.
+        let now = Snapshot::new(vec![
+            (
+                1,
+                vec![(id::REG_STATUS, 0x09), (id::REG_EXCEPTIONDATA, 0x0503)],
+            ),
+            (0, vec![(id::REGMASTER_EXCEPTIONDATA, 0x0002)]),
+        ]);
+        assert_eq!(Thaw::of(&frozen, &now, Pairs::ALL).release, [1]);
     }
 
     #[test]
