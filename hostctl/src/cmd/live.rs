@@ -112,7 +112,7 @@ impl Poller {
     /// [`Poller::new`] for the controllers of `pairs` and the master.
     pub fn for_pairs(pairs: Pairs) -> Result<Poller, HostError> {
         let mut reads = Vec::new();
-        for device in (1..=9).filter(|&d| pairs.has_device(d)).chain([0]) {
+        for device in pairs.devices().chain([0]) {
             let target = Target::of(device).ok_or(HostError::BadDevice {
                 given: device.to_string(),
             })?;

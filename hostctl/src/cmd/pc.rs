@@ -692,10 +692,7 @@ pub fn reset_exceptions() -> Result<Vec<Op>, HostError> {
 /// output decaying ×0.96 a 150-ms window under power (its gains go to 0, and the speed
 /// form's u is never reset, reference §7.1): some 20 s from full duty.
 pub fn bridges_off(pairs: Pairs) -> Result<Vec<Op>, HostError> {
-    (1..=9)
-        .filter(|&device| pairs.has_device(device))
-        .map(bridge_off)
-        .collect()
+    pairs.devices().map(bridge_off).collect()
 }
 
 /// [`bridges_off`] of one controller: its REG_EXCEPTIONDATA write.

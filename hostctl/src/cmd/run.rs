@@ -828,8 +828,8 @@ fn running(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
 /// (that board keeps its own exception, and the master its). A board in its boot state or
 /// its own fault is left in it; one not read is left as it is.
 fn in_remote_exception(now: &Snapshot, pairs: Pairs) -> Vec<u8> {
-    (1..=9)
-        .filter(|&device| pairs.has_device(device))
+    pairs
+        .devices()
         .filter(|&device| {
             slave_exception(now, device).is_some_and(|e| e.code == ExceptionType::RemoteSlave as u8)
         })
