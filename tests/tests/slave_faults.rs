@@ -132,19 +132,33 @@ fn overcurrent_at_low_duty_is_a_short() {
 
 #[test]
 fn a_lift_overcurrent_names_its_motor() {
-    let mut r = running(3);
-    send(&mut r, slave_support::LIFT_GAINS_WHEEL_1);
-    r.write_value(id::REGLL_ONE_REQPOS, 30.0);
-    r.run_us(100_000);
-    r.plant
-        .model_mut(r.chip)
-        .unwrap()
-        .sense_mut(Motor::M1)
-        .inject_spike(8.0, 0.005);
-    r.run_us(10_000);
-    assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), SHORTOC);
-    assert_eq!(r.read_raw(id::REG_STATUS), 0x0005);
-    assert_stopped(&r);
+    // ONE lifting wheel 1 (motor 0, LED1 latched), then TWO (motor 1, LED2) with ONE
+    // lifting: the code's high byte and the LED name the motor that spiked, not the one
+    // moving. LED2's heartbeat (1 ms in 101) flickers through LED1's latch.
+    for (motor, data, latched) in [
+        (Motor::M1, SHORTOC, (300, 0)),
+        (Motor::M2, 0x0100 | SHORTOC, (0, 300)),
+    ] {
+        let mut r = running(3);
+        send(&mut r, slave_support::LIFT_GAINS_WHEEL_1);
+        r.write_value(id::REGLL_ONE_REQPOS, 30.0);
+        r.run_us(100_000);
+        r.plant
+            .model_mut(r.chip)
+            .unwrap()
+            .sense_mut(motor)
+            .inject_spike(8.0, 0.005);
+        r.run_us(10_000);
+        assert_eq!(r.read_raw(id::REG_EXCEPTIONDATA), data, "{motor:?}");
+        assert_eq!(r.read_raw(id::REG_STATUS), 0x0005, "{motor:?}");
+        assert_stopped(&r);
+        let (led1, led2) = led_counts(&mut r, 300);
+        assert_eq!(led1, latched.0, "{motor:?}: LED1 lit ms");
+        assert!(
+            led2.abs_diff(latched.1) <= 3,
+            "{motor:?}: LED2 lit {led2} ms"
+        );
+    }
 }
 
 #[test]
