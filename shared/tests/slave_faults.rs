@@ -28,6 +28,24 @@ fn run_until_exception(rig: &mut DsRig, ms: u32) -> Option<u32> {
     })
 }
 
+/// Ticks (each call of `tick` one, giving motor 1's duty and whether the slave is in
+/// an exception) for up to 3 s; returns the ms from the first duty above 120 to the
+/// exception. Fails if either never comes.
+fn ms_from_duty_120_to_exception(mut tick: impl FnMut() -> (u8, bool)) -> u32 {
+    let mut first_high = None;
+    for ms in 0..3_000u32 {
+        let (duty, in_exception) = tick();
+        if first_high.is_none() && duty > 120 {
+            first_high = Some(ms);
+        }
+        if in_exception {
+            let high = first_high.expect("an exception before the duty passed 120");
+            return ms - high;
+        }
+    }
+    panic!("no stall in 3 s (duty above 120 from {first_high:?} ms)");
+}
+
 fn assert_running(rig: &mut DsRig, what: &str) {
     assert!(
         !rig.bench.core.state().in_exception(),
@@ -85,6 +103,8 @@ fn a_steer_sweep_raises_nothing() {
         rig.run_ms(50);
     }
     assert_running(&mut rig, "steer ramp");
+    let peak = rig.bench.peak_duty[1];
+    assert!(peak > 120, "the check never looked: duty at most {peak}");
 }
 
 #[test]
@@ -112,21 +132,11 @@ fn a_held_steer_raises_stall_after_faulttime() {
     let mut rig = ds_rig();
     rig.steer.held = true;
     rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
-    let mut first_high = None;
-    let mut raised = None;
-    for ms in 0..3_000u32 {
-        let out = rig.tick();
-        if first_high.is_none() && out.motors[1].duty() > 120 {
-            first_high = Some(ms);
-        }
-        if rig.bench.core.state().in_exception() {
-            raised = Some(ms);
-            break;
-        }
-    }
-    let (high, raised) = (first_high.unwrap(), raised.expect("a stall"));
     // Detected at the update that follows the duty rise, raised more than 500 ms later.
-    let delay = raised - high;
+    let delay = ms_from_duty_120_to_exception(|| {
+        let duty = rig.tick().motors[1].duty();
+        (duty, rig.bench.core.state().in_exception())
+    });
     assert!((501..=505).contains(&delay), "{delay} ms");
     assert_eq!(
         rig.bench.read(REG_EXCEPTIONDATA),
@@ -238,15 +248,12 @@ fn a_held_lift_raises_stall_and_the_other_lift_moves_on() {
     rig.lifts[1].held = true;
     rig.bench.write_value(REGLL_ONE_REQPOS, 20.0);
     rig.bench.write_value(REGLL_TWO_REQPOS, 20.0);
-    let mut at = None;
-    for ms in 0..3_000 {
-        rig.tick();
-        if rig.bench.core.state().in_exception() {
-            at = Some(ms);
-            break;
-        }
-    }
-    assert!(at.is_some());
+    // As the steer's: raised FAULTTIME (500 ms) after the duty rose past STALLCHECK.
+    let delay = ms_from_duty_120_to_exception(|| {
+        let duty = rig.tick().motors[1].duty();
+        (duty, rig.bench.core.state().in_exception())
+    });
+    assert!((501..=505).contains(&delay), "{delay} ms");
     assert_eq!(rig.bench.read(REG_EXCEPTIONDATA), 0x0105);
     assert!(
         rig.lifts[0].angle > 5.0,
@@ -268,4 +275,6 @@ fn a_lift_step_raises_nothing() {
     assert!(!rig.bench.core.state().in_exception());
     assert!((rig.lifts[0].angle - 30.0).abs() < 2.0);
     assert!((rig.lifts[1].angle + 30.0).abs() < 2.0);
+    let peak = rig.bench.peak_duty;
+    assert!(peak.iter().all(|&d| d > 120), "duty at most {peak:?}");
 }

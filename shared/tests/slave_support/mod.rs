@@ -18,6 +18,10 @@ pub struct Bench {
     /// The fake µs clock.
     pub now_us: u32,
     pub last: Option<Outputs>,
+    /// The highest duty of each motor since the bench was made: a test of "nothing
+    /// raised" shows with it that a fault check was watching (it looks only above the
+    /// motor's STALLCHECK).
+    pub peak_duty: [u8; 2],
 }
 
 impl Bench {
@@ -32,6 +36,7 @@ impl Bench {
             regs: RegisterFile::new(variant),
             now_us: 0,
             last: None,
+            peak_duty: [0; 2],
         }
     }
 
@@ -53,6 +58,9 @@ impl Bench {
         self.now_us = self.now_us.wrapping_add(TICK_US);
         let out = self.core.tick(self.now_us, inputs, &mut self.regs);
         self.last = Some(out);
+        for (peak, motor) in self.peak_duty.iter_mut().zip(out.motors) {
+            *peak = (*peak).max(motor.duty());
+        }
         out
     }
 
