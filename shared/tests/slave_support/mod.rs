@@ -31,6 +31,11 @@ impl Bench {
             Variant::DriveSteer => 1,
             Variant::LiftLift => 3,
         };
+        Bench::at(variant, address)
+    }
+
+    /// A board at `address` (from EEPROM byte 0), before its first tick.
+    pub fn at(variant: Variant, address: u8) -> Bench {
         Bench {
             core: Core::new(variant, address),
             regs: RegisterFile::new(variant),
