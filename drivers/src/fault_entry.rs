@@ -4,9 +4,10 @@
 //!
 //! [`fault_entries!`](crate::fault_entries) defines both in the invoking image, each calling
 //! that image's own `halt` (which outputs to stop differs per board). No call in the
-//! firmware can panic today, so the vector also keeps the handler in the image, where the
-//! emulator tests (`master_panic`, `slave_panic`) run it. The invoking crate needs
-//! `#![feature(abi_avr_interrupt)]`.
+//! firmware can panic today, so the linker drops the panic handler, and the emulator tests
+//! (`master_panic`, `slave_panic`) run `halt` through the vector; they fail once an image
+//! links core's panic code, so that the handler gets a test of its own. The invoking crate
+//! needs `#![feature(abi_avr_interrupt)]`.
 
 /// Defines `#[panic_handler]` and `__vector_default` in the invoking crate, both calling
 /// `$halt`, a `fn() -> !` that stops the board's outputs and waits for the watchdog.
