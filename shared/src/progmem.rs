@@ -136,10 +136,6 @@ mod avr {
         byte
     }
 
-    /// Copies `len` bytes from flash address `src` to `dst`.
-    ///
-    /// # Safety
-    /// `dst` is valid for `len` bytes of writes.
     /// The two bytes at flash address `addr`.
     #[inline(always)]
     fn bytes2(addr: u16) -> [u8; 2] {
@@ -183,6 +179,10 @@ mod avr {
         [a, b, c, d]
     }
 
+    /// Copies `len` bytes from flash address `src` to `dst`.
+    ///
+    /// # Safety
+    /// `dst` is valid for `len` bytes of writes.
     #[inline(never)]
     unsafe fn copy(dst: *mut u8, src: u16, len: u8) {
         for i in 0..len {

@@ -427,12 +427,15 @@ fn without_comment(raw: &str) -> &str {
 /// Why a line is refused: a usage message or an error of the command it runs.
 #[derive(Debug)]
 enum Why {
+    /// The words do not fit the command: its usage line, e.g. `write DEV REG VALUE`.
     Usage(&'static str),
     /// A limit of the rover's, in words.
     Limit(&'static str),
     /// Anything else, in words.
     Text(String),
+    /// A word that should be a finite number and is not (the word as written).
     Number(String),
+    /// A register, device or value that hostctl's own checks refuse.
     Host(HostError),
 }
 
