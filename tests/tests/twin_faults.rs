@@ -380,8 +380,17 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
         "stopped before the link timed out: {waited:.1} s"
     );
     println!("RC transmitter off: every wheel below 50 ticks/s {waited:.1} s later");
-    // And the PC is answered again.
-    assert!(s.link.transact(0, &[0x03, 0x03, 0x02], 24).is_ok());
+    // And the PC is answered again, with the master's registers: the ambient sensor
+    // read (REGMASTER_TEMPSREAD bit 0, the set's last word; one sensor a 2-s tick) at the
+    // twin's 20.0 °C (0x5555 on −20..100).
+    let reply = s
+        .link
+        .transact(0, &[0x03, 0x03, 0x02], 24)
+        .expect("answered");
+    let word = |at: usize| u16::from_le_bytes([reply[at], reply[at + 1]]);
+    assert_eq!(reply.len(), 24);
+    assert_eq!(word(22) & 1, 1, "ambient not read: {reply:02x?}");
+    assert!(word(0).abs_diff(0x5555) <= 1, "ambient {:#06x}", word(0));
 }
 
 #[test]
