@@ -401,9 +401,10 @@ fn round_up(x: f32) -> String {
 /// mapped register holds a value the board (or the master) measured and mapped with
 /// clamping (reference §3), so its ends stand for "this or beyond": a board at 110 °C
 /// reads 100. A low end at 0 or above is no clamp (an interval, the chassis pot: nothing
-/// reads below it), and a writable register holds what was written.
+/// reads below it), a writable register holds what was written, and a duty (CONTROL) is
+/// the PWM level itself, which has no value beyond ±255.
 pub fn limit_of(reg: &Register, raw: u16) -> Option<Limit> {
-    let range = reg.range.filter(|_| !reg.writable)?;
+    let range = reg.range.filter(|_| !reg.writable && reg.unit != "duty")?;
     if u32::from(raw) >= mapping::full_scale(reg.size) {
         Some(Limit::Upper)
     } else if raw == 0 && range.min < 0.0 {

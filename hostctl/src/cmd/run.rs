@@ -582,9 +582,13 @@ fn act<P: Port>(
                 let frame = set_frame(*target, *set, regs)?;
                 configure(link, *target, *set, &frame, regs.len())?;
             }
-            session
-                .shown
-                .push(SetRead::new(*target, *set, regs.clone())?);
+            // A line that repeats an earlier one's device and registers adds nothing.
+            let shown = |read: &SetRead| read.set == *set && read.target.device == target.device;
+            if !session.shown.iter().any(shown) {
+                session
+                    .shown
+                    .push(SetRead::new(*target, *set, regs.clone())?);
+            }
         }
         Action::Op(Op::Write(send)) => {
             if send.leaves_exception() {
@@ -1828,8 +1832,10 @@ mod tests {
         replies.extend(update_replies());
         replies.push(vec![0xff, 0x7f]);
         replies.push(vec![0x00, 0x00]);
+        // A register named twice, and a line that repeats an earlier one, add nothing.
         let ran = run_script(
-            "show 1 drive_control\nshow 4 drive_control\nwait 0\n",
+            "show 1 drive_control drive_control\nshow 4 drive_control\nshow 1 drive_control\n\
+             wait 0\n",
             &replies,
             false,
         );
@@ -1837,13 +1843,15 @@ mod tests {
         let hex = ran.hex;
         assert_eq!(hex[10], "04 14 03 14", "set 3 := DRIVE_CONTROL, sent once");
         assert_eq!(hex[21..], ["03 13 03", "03 43 03"]);
+        // A duty has no value beyond its range's ends: -255 is shown as it is.
         assert!(
             ran.text.contains(
-                "\ndevice 1: DRIVE_CONTROL 0.000 duty\ndevice 4: DRIVE_CONTROL ≤-255.000 duty\n"
+                "\ndevice 1: DRIVE_CONTROL 0.000 duty\ndevice 4: DRIVE_CONTROL -255.000 duty\n"
             ),
             "{}",
             ran.text
         );
+        assert_eq!(ran.text.matches("device 1:").count(), 1, "{}", ran.text);
     }
 
     #[test]

@@ -544,10 +544,18 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
         ["show", dev, regs @ ..] if !regs.is_empty() && regs.len() <= READ_SET_SIZE => {
             let target = resolve::device(dev)?;
             pc.pairs().check_device(target.device)?;
-            let regs = regs
+            let mut regs = regs
                 .iter()
                 .map(|r| resolve::register(target, r))
                 .collect::<Result<Vec<_>, _>>()?;
+            // A register named twice is shown once.
+            let mut seen = Vec::new();
+            regs.retain(|reg| {
+                !seen.contains(&reg.id) && {
+                    seen.push(reg.id);
+                    true
+                }
+            });
             let set = show_sets.take(&regs).ok_or(Why::Limit(
                 "the four read sets for `show` (3..6) hold four other register lists already; \
                  a line naming the same registers as an earlier one, on any device, shares \
