@@ -81,8 +81,9 @@ pub enum Command {
     /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop (every motor unpowered at once,
     /// then the library's emergency stop: gains and demands 0; a board that ignores it
     /// fails the line), wait SECONDS (a live view of
-    /// required against actual per wheel, redrawn in place), watch SECONDS (the same view
-    /// kept as a log, one every second), show DEV REG… (adds registers, e.g. `show 1
+    /// required against actual per wheel, redrawn in place; to a file or pipe, the last
+    /// view only, when it ends), watch SECONDS (the same view kept as a log, one every
+    /// second: for a record that survives a killed run), show DEV REG… (adds registers, e.g. `show 1
     /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is

@@ -14,7 +14,7 @@
 //! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
 //! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
 //! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s. A board still running then (its DISABLEDEXCEPTIONS masks REMOTESLAVE) fails the line, named |
-//! | `wait SECONDS` | Let time pass, showing the live view (required vs actual) |
+//! | `wait SECONDS` | Let time pass, showing the live view (required vs actual), redrawn in place; to a file or pipe, the last view only, when it ends |
 //! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
 //! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (read sets 3..6: at most four different register lists, as lines naming the same registers share a set) |
 //! | `say TEXT` | Print TEXT (up to a comment) |
