@@ -26,9 +26,11 @@ use shared::regs::id;
 use twin::wiring::Axis;
 use twin_support::{drive_speed, master_exception, rover, slave_exception, Session};
 
-/// Checks, by one update(), that no controller is in an exception; returns that update.
+/// Checks, by one update(), that every controller answers and none is in an exception;
+/// returns that update.
 fn no_board_in_exception(s: &mut Session) -> Snapshot {
     let snap = s.update();
+    assert_eq!(snap.silent(), [] as [u8; 0], "controllers not answering");
     for n in 1..=9 {
         assert_eq!(
             slave_exception(&snap, n),
@@ -37,6 +39,17 @@ fn no_board_in_exception(s: &mut Session) -> Snapshot {
         );
     }
     snap
+}
+
+/// Polls update() for up to 0.5 s until every controller but `source` shows REMOTESLAVE,
+/// the master's spread of `source`'s fault; fails if one does not.
+fn assert_spread_from(s: &mut Session, source: u8) {
+    let (ok, snap, _) = s.until(0.5, |s| {
+        (1..=9u8)
+            .filter(|&n| n != source)
+            .all(|n| slave_exception(s, n) == Some(3))
+    });
+    assert!(ok, "not spread from controller {source}: {snap:?}");
 }
 
 /// A session calibrated, with exceptions reset.
@@ -110,12 +123,7 @@ fn a_stalled_wheel_raises_its_fault_on_the_master_and_every_motor_stops() {
     assert_eq!((slave, motor), (4, 0));
     println!("stall on wheel 3 reached the master after {took:?} (type {kind})");
     // Spread: every other slave is in REMOTESLAVE, so every motor is stopped.
-    let (ok, snap, _) = s.until(0.5, |s| {
-        (1..=9u8)
-            .filter(|&n| n != 4)
-            .all(|n| slave_exception(s, n) == Some(3))
-    });
-    assert!(ok, "not spread: {snap:?}");
+    assert_spread_from(&mut s, 4);
     all_at_rest_after(&mut s, 3.0);
 }
 
@@ -140,10 +148,9 @@ fn a_slave_cut_off_the_bus_is_detected_within_its_bound() {
     let (data, took) = seen.expect("the master never noticed controller 5");
     assert_eq!(split(data), (11, 5, 0), "SlaveSilent on controller 5");
     println!("controller 5 cut off: on the master after {took:?}");
-    assert!(
-        took <= Duration::from_millis(100),
-        "detected after {took:?}"
-    );
+    // The goal: every motor stopped within 50 ms; one set-2 read (~3 ms) more for the
+    // PC to see it.
+    assert!(took <= Duration::from_millis(53), "detected after {took:?}");
     // Every other slave is told, and their wheels coast to a stop. Controller 5 cannot
     // hear it, but, pinged by the master since 5 s after its boot, its bus-silence
     // failsafe is armed: BUSTIMEOUT (2500 ms) after the last transaction it stopped its
@@ -218,6 +225,8 @@ fn a_controller_driven_and_lost_before_the_first_ping_is_found_by_it() {
     );
     let at = s.twin.borrow().micros();
     assert!((5_000_000..5_400_000).contains(&at), "found at {at} us");
+    // The master stopped the others (not their own demands never arriving).
+    assert_spread_from(&mut s, 4);
     s.pass(3.0);
     let speeds = physical_speeds(&s);
     for (w, v) in WHEELS.zip(&speeds) {
@@ -368,7 +377,7 @@ fn the_rc_receiver_drives_the_rover_and_silences_the_pc_link() {
     let mut waited = 0.0;
     while physical_speeds(&s).iter().any(|v| v.abs() >= 50.0) {
         assert!(
-            waited < 8.0,
+            waited < 4.0,
             "still driving {waited:.1} s after the link went: {:?}",
             physical_speeds(&s)
         );
@@ -432,8 +441,9 @@ fn a_pc_program_that_armed_the_silence_failsafe_and_hangs_gets_every_motor_stopp
     // The program hangs with the port open: nothing more is sent.
     let mut waited_ms = 0;
     while !every_motor_stopped(&s) {
+        // The first spread must do it: a second one comes a timeout later.
         assert!(
-            waited_ms < 1000,
+            waited_ms < 600,
             "motors still driven {waited_ms} ms into the silence"
         );
         s.pass(0.01);
@@ -569,7 +579,7 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
     println!(
         "library stop aborted at controller {cut}: the other boards stopped {stopped} us later"
     );
-    assert!(stopped <= 5_000, "{stopped} us after the reply");
+    assert!(stopped <= 3_000, "{stopped} us after the reply");
     let snap = s.update();
     assert_eq!(
         split(master_exception(&snap)),
@@ -613,6 +623,10 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
     assert_eq!(
         rebooted, resets,
         "found only after the watchdog rebooted it"
+    );
+    assert!(
+        stopped <= 50_000,
+        "the goal: every motor stopped within 50 ms"
     );
     let snap = s.update();
     assert_eq!(
@@ -747,7 +761,7 @@ fn a_calibrate_after_hostctls_stop_holds_every_steer_and_lift_where_it_stands() 
     println!("steer and lift angles before {before:?}, 3 s after {after:?}");
     for (b, a) in before.iter().zip(&after) {
         assert!(
-            (a.0 - b.0).abs() < 1.0 && (a.1 - b.1).abs() < 1.0,
+            (a.0 - b.0).abs() < 0.05 && (a.1 - b.1).abs() < 0.05,
             "moved: {before:?} -> {after:?}"
         );
     }
