@@ -90,7 +90,8 @@ fn physical_speeds(s: &Session) -> Vec<f64> {
         .collect()
 }
 
-/// Lets `secs` of emulated time pass, then checks every wheel below 50 ticks/s.
+/// Lets `secs` of emulated time pass, then checks every wheel below 50 ticks/s and every
+/// motor of the nine boards (drives, steers, lifts) unpowered.
 fn all_at_rest_after(s: &mut Session, secs: f64) {
     s.pass(secs);
     let speeds = physical_speeds(s);
@@ -98,6 +99,7 @@ fn all_at_rest_after(s: &mut Session, secs: f64) {
         speeds.iter().all(|v| v.abs() < 50.0),
         "still turning: {speeds:?}"
     );
+    assert!(every_motor_stopped(s), "a steer or lift still powered");
 }
 
 /// The master's exception as (type, slave, motor).
