@@ -154,8 +154,9 @@ fn one_read_of_set_0_takes_little_more_than_its_wire_time() {
         "set 0 read: {took:.0} us, wire time {wire:.0} us, ratio {:.3}",
         took / wire
     );
-    // The original took 13.1 ms for this read; the goal for a whole update is 1.07 x wire.
-    assert!(took < 1.10 * wire, "{took} us for {wire} us of wire time");
+    // The original took 13.1 ms for this read; the goal for a whole update, 1.07 x wire,
+    // holds for this read alone.
+    assert!(took < 1.07 * wire, "{took} us for {wire} us of wire time");
 }
 
 #[test]

@@ -147,7 +147,8 @@ mod tests {
         expected[0] = Some(0);
         expected[1] = Some(0x1234);
         expected[10] = Some(0x4321);
-        expected[11] = Some(l.exception.data());
+        // The boot exception (type 2), held since power-up.
+        expected[11] = Some(0x0002);
         expected[12] = Some(u16::from(LinkError::BadDevice.code()));
         expected[13] = Some(2);
         // Sensors 0 and 9 read; the out-of-range index 10 marks nothing.

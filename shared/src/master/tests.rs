@@ -293,12 +293,16 @@ fn garbage_then_abort_then_a_valid_frame_is_answered() {
 
 #[test]
 fn error_codes_round_trip_and_replies_carry_the_flag() {
+    let mut known = 0;
     for code in 0..=255u8 {
         if let Some(e) = LinkError::from_code(code) {
             assert_eq!(e.code(), code);
             assert_eq!(e.reply(), 0x80 | code);
             assert!(!e.describe().is_empty());
+            known += 1;
         }
     }
+    // Codes 1..=14 (docs/protocol.md), and nothing else.
+    assert_eq!(known, 14);
     assert_eq!(LinkError::from_code(0), None);
 }
