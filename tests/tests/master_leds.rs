@@ -42,28 +42,34 @@ fn d13_lights_for_100_ms_at_each_ping() {
 
 #[test]
 fn d7_flashes_the_type_code_of_the_raised_exception() {
-    let mut rig = Rig::new();
-    rig.reset_master();
-    // Slave 2 reports a short (type 8) at the first ping.
-    for addr in 1..=9 {
-        rig.slave(addr).in_exception = false;
-    }
-    rig.slave(2).raise(8, 0);
-    rig.run_to(5_500_000);
-    assert_eq!(rig.master_exception(), 0x0208);
-    // A master reset does not stop the flashing. Watch the next whole cycle: cycles
-    // start at multiples of 8.192 s of the master's clock (which starts at load).
-    rig.reset_master();
-    const CYCLE_US: u64 = 8_192_000;
-    let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
-    rig.run_to(start - 1_000);
-    rig.avr().trace_pin(uno::D7);
-    rig.run_to(start + CYCLE_US - 1_000);
-    let lit = pulses(&rig.avr().pin_trace(uno::D7));
-    assert_eq!(lit.len(), 8, "eight pulses per cycle: {lit:?}");
-    for (i, (at, width)) in lit.iter().enumerate() {
-        let expected = start as f64 + 512_000.0 * i as f64;
-        assert!((at - expected).abs() < 2_000.0, "pulse {i} at {at} us");
-        assert!((127_000.0..130_000.0).contains(width), "lit {width} us");
+    // A short (type 8) on slave 2, a stall (type 5) on slave 7: as many pulses a cycle.
+    for (slave, code) in [(2u8, 8u8), (7, 5)] {
+        let mut rig = Rig::new();
+        rig.reset_master();
+        // The slave reports it at the first ping.
+        for addr in 1..=9 {
+            rig.slave(addr).in_exception = false;
+        }
+        rig.slave(slave).raise(code, 0);
+        rig.run_to(5_500_000);
+        assert_eq!(
+            rig.master_exception(),
+            u16::from(slave) << 8 | u16::from(code)
+        );
+        // A master reset does not stop the flashing. Watch the next whole cycle: cycles
+        // start at multiples of 8.192 s of the master's clock (which starts at load).
+        rig.reset_master();
+        const CYCLE_US: u64 = 8_192_000;
+        let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
+        rig.run_to(start - 1_000);
+        rig.avr().trace_pin(uno::D7);
+        rig.run_to(start + CYCLE_US - 1_000);
+        let lit = pulses(&rig.avr().pin_trace(uno::D7));
+        assert_eq!(lit.len(), usize::from(code), "type {code}: {lit:?}");
+        for (i, (at, width)) in lit.iter().enumerate() {
+            let expected = start as f64 + 512_000.0 * i as f64;
+            assert!((at - expected).abs() < 2_000.0, "pulse {i} at {at} us");
+            assert!((127_000.0..130_000.0).contains(width), "lit {width} us");
+        }
     }
 }
