@@ -1,7 +1,8 @@
 //! The PC link as idle serves it: bytes from the receive queue into the parser, each
 //! complete frame executed and answered (or swallowed with no reply while the remote
 //! control's link is up, reference §9.2), slave accesses reported to the schedule, the
-//! inter-byte timeout, and the opt-in PC-silence failsafe (REGMASTER_PCTIMEOUT).
+//! inter-byte timeout (which also ends the skipping after a lost byte), and the opt-in
+//! PC-silence failsafe (REGMASTER_PCTIMEOUT).
 
 use crate::link::{now_ms, Clock, Lock, Replies, RxEvent, RxQueue, TxQueue};
 use crate::relay::Watched;
@@ -59,7 +60,9 @@ impl PcLink {
                     }
                 }
                 _ => {
-                    self.parser.abort();
+                    // Skip to a quiet line: the rest of a damaged frame must not run as
+                    // frames of its own.
+                    self.parser.lose();
                     if let Some(e) = event.error() {
                         s.service.link_error(e);
                     }

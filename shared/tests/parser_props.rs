@@ -1,5 +1,5 @@
 //! Property tests of the parser and the encoders: no panic on any input, resync after
-//! `abort`, and encode -> parse round trips.
+//! `abort`, nothing parsed after `lose` until `abort`, and encode -> parse round trips.
 
 use proptest::prelude::*;
 use shared::protocol::{
@@ -64,6 +64,31 @@ proptest! {
         }
         let expected = Request::Write { device, writes: heapless::Vec::from_slice(&writes).unwrap() };
         prop_assert_eq!(p.push(*last), Some(Ok(expected)));
+    }
+
+    #[test]
+    fn after_a_lost_byte_nothing_is_a_frame_until_the_link_finds_the_line_quiet(
+        before in proptest::collection::vec(any::<u8>(), 0..300),
+        after in proptest::collection::vec(any::<u8>(), 0..1200),
+        (device, writes) in device_and_writes(40),
+    ) {
+        let frame = encoded_write(device, &writes).unwrap();
+        let mut p = Parser::new();
+        for b in before {
+            let _ = p.push(b);
+        }
+        // A damaged byte: whatever came before and follows, no frame ends (a whole valid
+        // frame among the bytes included), and the link's timeout keeps timing.
+        p.lose();
+        for b in after.into_iter().chain(frame.iter().copied()) {
+            prop_assert!(p.push(b).is_none());
+            prop_assert!(p.in_frame());
+        }
+        // The quiet line ends the skipping without a partial frame to count.
+        prop_assert!(!p.abort());
+        let expected = Request::Write { device, writes: heapless::Vec::from_slice(&writes).unwrap() };
+        let replies: Vec<_> = frame.iter().filter_map(|&b| p.push(b)).collect();
+        prop_assert_eq!(replies, vec![Ok(expected)]);
     }
 
     #[test]

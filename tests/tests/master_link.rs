@@ -2,7 +2,10 @@
 //! the banner, device 0's registers, the library's read set 2, and bad input (garbled
 //! bytes on the line included).
 
+mod master_support;
+
 use harness::Avr;
+use shared::regs::id;
 
 /// Boots the master and returns it with the banner read.
 fn boot() -> (Avr, String) {
@@ -164,22 +167,49 @@ fn a_frame_that_stops_arriving_is_dropped_and_the_link_recovers() {
 }
 
 #[test]
-fn a_byte_with_a_framing_error_drops_the_partial_frame_and_is_counted() {
+fn a_byte_with_a_framing_error_skips_the_rest_of_its_frame_until_the_line_is_quiet() {
     let (mut avr, _) = boot();
-    // resetExceptions() for device 0 with its third byte garbled on the line, then at once
-    // the same frame sent clean.
-    avr.uart_send(&[0x05, 0x02]);
-    avr.uart_send_framing_error(&[0x01]);
+    // A 9-byte frame whose length byte arrives garbled. Its other eight bytes hold a write
+    // of REGMASTER_PCTIMEOUT = 0x1234 ms (`06 02 01 0f 34 12`) and two zeros: taken as
+    // frames of their own they would arm the PC-silence failsafe and count two errors.
+    // Then, at once, resetExceptions() for device 0, clean: the line is not quiet yet, so
+    // it is skipped too, with no reply.
+    avr.uart_send_framing_error(&[0x09]);
     let clean = [0x05, 0x02, 0x01, 0x00, 0x01];
-    // One reply, the clean frame's: the garbled frame's first two bytes were dropped with
-    // the bad byte, not joined to the clean frame's.
+    let mut rest = vec![0x06, 0x02, 0x01, 0x0f, 0x34, 0x12, 0x00, 0x00];
+    rest.extend_from_slice(&clean);
+    silence(&mut avr, &rest);
+    // 50 ms after the last byte the line is quiet, and the next frame is answered.
+    avr.run_us(35_000);
     assert_eq!(exchange(&mut avr, &clean, 1), [0x00]);
-    // So the reset was applied once, and the framing error is the last error (code 13),
-    // the only one counted.
+    // The reset ran once, PCTIMEOUT is untouched, and the framing error is the last error
+    // (code 13) and the only one counted.
     assert_eq!(
-        read_master(&mut avr, &[11, 12, 13], 5),
-        [0x00, 0x00, 13, 1, 0]
+        read_master(&mut avr, &[11, 12, 13, 15], 7),
+        [0x00, 0x00, 13, 1, 0, 0, 0]
     );
+}
+
+#[test]
+fn frames_sent_without_waiting_for_replies_lose_bytes_and_none_of_the_rest_runs() {
+    // Two 255-byte frames in one write, each 126 writes of REG_DEBUGLED on controller 1:
+    // the first takes ~13 ms of bus time while the second's bytes overflow the 32-byte
+    // receive queue. The lost byte is an overrun (code 14), and the rest of the second
+    // frame is skipped (its `04 05` pairs would otherwise run as read-set frames).
+    let mut rig = master_support::Rig::new();
+    let mut frame = vec![0xff, 0x12, 126];
+    for _ in 0..126 {
+        frame.extend_from_slice(&[id::REG_DEBUGLED, 0x05]);
+    }
+    rig.clear_records();
+    let mut both = frame.clone();
+    both.extend_from_slice(&frame);
+    assert_eq!(rig.exchange(&both, 1), [0x00], "the first frame only");
+    rig.run_us(100_000);
+    assert_eq!(rig.slave(1).writes_to(id::REG_DEBUGLED).len(), 126);
+    // The link works again; read set 5 was never configured by a fragment.
+    assert_eq!(rig.master_regs(&[12], 1), [14]);
+    rig.silence(&[0x03, 0x03, 0x05]);
 }
 
 #[test]

@@ -111,6 +111,9 @@ fn bytes_with_serial_errors_do_not_count_as_the_pc_heard() {
     }
     // At 300 and 600 ms: garbled bytes keep nothing running.
     spread_after(&mut rig, heard, 2, "through a garbled byte every 50 ms");
+    // After a garbled byte the master skips what follows until the line has been quiet
+    // for 50 ms; the last came 50 ms ago.
+    rig.run_us(10_000);
     assert_eq!(rig.master_exception(), 0x000d, "PCSILENT");
     // The garbled bytes were seen: the last error is a framing error (code 13).
     assert_eq!(rig.master_regs(&[id::REGMASTER_LASTERROR], 1), [13]);

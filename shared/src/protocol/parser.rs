@@ -7,16 +7,23 @@ use super::{Command, Frame, FrameError, Rejected, Request, SizesOf, Writes};
 use super::{MAX_DEVICE, MAX_FRAME};
 use super::{MAX_WRITES, READ_SETS, READ_SET_SIZE};
 
-/// Collects the bytes of one frame at a time in a fixed 255-byte buffer.
+/// Collects the bytes of one frame at a time in a fixed 255-byte buffer, or skips bytes
+/// after a damaged or lost one ([`Parser::lose`]) until the link's timeout finds the line
+/// quiet ([`Parser::abort`]).
 // In declaration order, the count first: the AVR reaches it from the parser's address
 // with a short displacement, where after the buffer it would need its own pointer.
 #[derive(Clone, Debug)]
 #[repr(C)]
 pub struct Parser {
-    /// Bytes of the current frame received so far; 0 between frames.
+    /// Bytes of the current frame received so far; 0 between frames; [`SKIPPING`] after a
+    /// lost byte (a count never kept: a frame ends by its 255th byte).
     len: u8,
     buf: [u8; MAX_FRAME],
 }
+
+/// [`Parser::len`] while bytes are skipped: the index just past the buffer.
+const SKIPPING: u8 = u8::MAX;
+const _: () = assert!(SKIPPING as usize == MAX_FRAME);
 
 impl Default for Parser {
     fn default() -> Self {
@@ -57,12 +64,12 @@ impl Parser {
     /// validates (until the next byte). The master's byte loop uses this, so that only a
     /// completed frame reaches the validation and the frame logic.
     pub fn push_byte(&mut self, byte: u8) -> bool {
-        let index = usize::from(self.len);
-        // `len` < L <= 255 here, so `index` is inside the buffer; a length byte below 2
-        // is kept too, for `completed` to reject.
-        if let Some(slot) = self.buf.get_mut(index) {
-            *slot = byte;
-        }
+        // In a frame `len` < L <= 255, so `index` is inside the buffer (a length byte
+        // below 2 is kept too, for `completed` to reject); only SKIPPING is past its end.
+        let Some(slot) = self.buf.get_mut(usize::from(self.len)) else {
+            return false;
+        };
+        *slot = byte;
         self.len = self.len.wrapping_add(1);
         // A frame of length L >= 2 ends at its L-th byte; a length byte of 0 or 1 ends its
         // (error) frame at once.
@@ -88,15 +95,23 @@ impl Parser {
         validate(frame, Sizes::of_device).map_err(|error| Rejected { error, header })
     }
 
-    /// Drops a partial frame (the link's inter-byte timeout); returns true if one was
-    /// dropped.
+    /// Drops a partial frame, or ends the skipping (the link's inter-byte timeout: the
+    /// line is quiet); returns true if a partial frame was dropped.
     pub fn abort(&mut self) -> bool {
-        let dropped = self.len != 0;
+        let dropped = self.len != 0 && self.len != SKIPPING;
         self.len = 0;
         dropped
     }
 
-    /// Whether part of a frame has been received.
+    /// A byte was damaged or lost: drops a partial frame, and skips every byte until
+    /// [`Parser::abort`]. The rest of the damaged frame must not run as frames of its
+    /// own, and where they end only a quiet line tells.
+    pub fn lose(&mut self) {
+        self.len = SKIPPING;
+    }
+
+    /// Whether part of a frame has been received, or bytes are being skipped: what the
+    /// link's inter-byte timeout times.
     pub fn in_frame(&self) -> bool {
         self.len != 0
     }
