@@ -28,6 +28,23 @@ fn encoded_write(device: u8, writes: &[Write]) -> Result<Vec<u8>, EncodeError> {
     encode_write(device, writes, &mut out).map(|()| out.to_vec())
 }
 
+/// A parser that has been fed `bytes`, whatever they made of it.
+fn parser_after(bytes: &[u8]) -> Parser {
+    let mut p = Parser::new();
+    for &b in bytes {
+        let _ = p.push(b);
+    }
+    p
+}
+
+/// The request a write frame of `writes` to `device` parses as.
+fn write_request(device: u8, writes: &[Write]) -> Request {
+    Request::Write {
+        device,
+        writes: heapless::Vec::from_slice(writes).unwrap(),
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
@@ -52,18 +69,14 @@ proptest! {
         (device, writes) in device_and_writes(40),
     ) {
         let frame = encoded_write(device, &writes).unwrap();
-        let mut p = Parser::new();
-        for b in garbage {
-            let _ = p.push(b);
-        }
+        let mut p = parser_after(&garbage);
         p.abort();
         prop_assert!(!p.in_frame());
         let (last, head) = frame.split_last().unwrap();
         for &b in head {
             prop_assert_eq!(p.push(b), None);
         }
-        let expected = Request::Write { device, writes: heapless::Vec::from_slice(&writes).unwrap() };
-        prop_assert_eq!(p.push(*last), Some(Ok(expected)));
+        prop_assert_eq!(p.push(*last), Some(Ok(write_request(device, &writes))));
     }
 
     #[test]
@@ -73,10 +86,7 @@ proptest! {
         (device, writes) in device_and_writes(40),
     ) {
         let frame = encoded_write(device, &writes).unwrap();
-        let mut p = Parser::new();
-        for b in before {
-            let _ = p.push(b);
-        }
+        let mut p = parser_after(&before);
         // A damaged byte: whatever came before and follows, no frame ends (a whole valid
         // frame among the bytes included), and the link's timeout keeps timing.
         p.lose();
@@ -86,9 +96,8 @@ proptest! {
         }
         // The quiet line ends the skipping without a partial frame to count.
         prop_assert!(!p.abort());
-        let expected = Request::Write { device, writes: heapless::Vec::from_slice(&writes).unwrap() };
         let replies: Vec<_> = frame.iter().filter_map(|&b| p.push(b)).collect();
-        prop_assert_eq!(replies, vec![Ok(expected)]);
+        prop_assert_eq!(replies, vec![Ok(write_request(device, &writes))]);
     }
 
     #[test]
@@ -105,8 +114,7 @@ proptest! {
                 prop_assert_eq!(usize::from(frame[0]), length);
                 let mut p = Parser::new();
                 let results: Vec<_> = frame.iter().filter_map(|&b| p.push(b)).collect();
-                let expected = Request::Write { device, writes: heapless::Vec::from_slice(&writes).unwrap() };
-                prop_assert_eq!(results, vec![Ok(expected)]);
+                prop_assert_eq!(results, vec![Ok(write_request(device, &writes))]);
             }
         }
     }
