@@ -102,6 +102,15 @@ fn all_at_rest_after(s: &mut Session, secs: f64) {
     assert!(every_motor_stopped(s), "a steer or lift still powered");
 }
 
+/// Checks that `snap` shows the master in SlaveSilent (type 11) on `controller`.
+fn assert_slave_silent(snap: &Snapshot, controller: u8) {
+    assert_eq!(
+        split(master_exception(snap)),
+        (11, u16::from(controller), 0),
+        "SlaveSilent on controller {controller}"
+    );
+}
+
 /// The master's exception as (type, slave, motor).
 fn split(data: u16) -> (u16, u16, u16) {
     (data & 0xff, (data >> 8) & 0xf, data >> 12)
@@ -220,11 +229,7 @@ fn a_controller_driven_and_lost_before_the_first_ping_is_found_by_it() {
     // silent, not a board never fitted, and stops every other motor.
     let (ok, snap, took) = s.until(2.0, |s| master_exception(s) != 0);
     assert!(ok, "no exception after {took:?}");
-    assert_eq!(
-        split(master_exception(&snap)),
-        (11, 4, 0),
-        "SlaveSilent on controller 4"
-    );
+    assert_slave_silent(&snap, 4);
     let at = s.twin.borrow().micros();
     assert!((5_000_000..5_400_000).contains(&at), "found at {at} us");
     // The master stopped the others (not their own demands never arriving).
@@ -254,11 +259,7 @@ fn update_goes_on_past_a_controller_cut_off_the_bus_and_sees_it_come_back() {
     for w in [1, 2, 3, 5, 6] {
         assert!(speed(&snap, w).is_some(), "wheel {w} read");
     }
-    assert_eq!(
-        split(master_exception(&snap)),
-        (11, 5, 0),
-        "SlaveSilent on 5"
-    );
+    assert_slave_silent(&snap, 5);
     let lines = view_lines(
         &snap,
         &Pc::new(),
@@ -583,11 +584,7 @@ fn the_librarys_emergency_stop_aborted_by_a_silent_controller_still_stops_the_ro
     );
     assert!(stopped <= 3_000, "{stopped} us after the reply");
     let snap = s.update();
-    assert_eq!(
-        split(master_exception(&snap)),
-        (11, u16::from(cut), 0),
-        "SlaveSilent on the cut board"
-    );
+    assert_slave_silent(&snap, cut);
     // The cut board's own bus-silence stop ends its wheel too (BUSTIMEOUT, 2.5 s).
     all_at_rest_after(&mut s, 3.5);
 }
@@ -631,11 +628,7 @@ fn a_controller_that_panics_stops_the_rover_before_its_watchdog_reboot() {
         "the goal: every motor stopped within 50 ms"
     );
     let snap = s.update();
-    assert_eq!(
-        split(master_exception(&snap)),
-        (11, 4, 0),
-        "SlaveSilent on controller 4"
-    );
+    assert_slave_silent(&snap, 4);
 }
 
 #[test]
@@ -671,11 +664,7 @@ fn a_controller_that_hangs_holds_the_bus_and_every_motor_still_stops() {
     assert_eq!(rebooted, resets + 1, "its watchdog rebooted it");
     assert!(stopped < 1_100_000, "stopped {stopped} us after the hang");
     let snap = s.update();
-    assert_eq!(
-        split(master_exception(&snap)),
-        (11, 4, 0),
-        "SlaveSilent on controller 4"
-    );
+    assert_slave_silent(&snap, 4);
     all_at_rest_after(&mut s, 2.0);
 }
 
