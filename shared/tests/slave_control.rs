@@ -57,8 +57,7 @@ fn steer_steps_to_40_settle_within_2_degrees() {
 
 #[test]
 fn lift_steps_settle_within_2_degrees() {
-    let mut rig = LlRig::new();
-    rig.bench.calibrate();
+    let mut rig = LlRig::calibrated();
     rig.bench.write_value(REGLL_ONE_REQPOS, 20.0);
     rig.bench.write_value(REGLL_TWO_REQPOS, -30.0);
     let mut pair = [None, None];
@@ -77,8 +76,7 @@ fn lift_steps_settle_within_2_degrees() {
 
 #[test]
 fn drive_keeps_the_original_window_and_incremental_form() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
     // The first window closes on the first tick more than 150 ms after the first tick
     // (t = 1 ms): at t = 152 ms. The PID's first step is P·e = 0.0099·1000 ≈ 9.9 → 9.
@@ -119,8 +117,7 @@ fn drive_keeps_the_original_window_and_incremental_form() {
 
 #[test]
 fn drive_stop_coasts_down_by_bleeding() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
     rig.run_ms(8_000);
     let duty = rig.bench.last.unwrap().motors[0].duty();
@@ -139,8 +136,7 @@ fn drive_stop_coasts_down_by_bleeding() {
 
 #[test]
 fn fast_mode_updates_every_10_ms_from_edge_timing() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write(REGDS_DRIVE_MODE, 1);
     rig.bench.write_value(REGDS_DRIVE_PGAIN, 0.005);
     rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
@@ -174,8 +170,7 @@ fn fast_mode_updates_every_10_ms_from_edge_timing() {
 
 #[test]
 fn fast_mode_measures_reverse_speed_and_rest() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write(REGDS_DRIVE_MODE, 1);
     rig.bench.write_value(REGDS_DRIVE_PGAIN, 0.005);
     rig.bench.write_value(REGDS_DRIVE_REQSPEED, -1500.0);
@@ -191,8 +186,7 @@ fn fast_mode_measures_reverse_speed_and_rest() {
 
 #[test]
 fn monitoring_registers_follow_the_controller() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write_value(REGDS_STEER_REQPOS, 30.0);
     rig.run_ms(100);
     let error = rig.bench.read_value(REGDS_STEER_ERROR);

@@ -390,8 +390,7 @@ fn exception_stops_motors_but_writes_are_applied() {
 /// aims for 0.
 #[test]
 fn demands_written_in_exception_are_overwritten() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.run_ms(10);
     rig.bench.write(REG_EXCEPTIONDATA, 100);
     rig.run_ms(10);
@@ -428,8 +427,7 @@ fn demands_written_in_exception_are_overwritten() {
 /// kept.
 #[test]
 fn a_demand_written_just_before_the_reset_is_dropped_too() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.run_ms(10);
     rig.bench.write(REG_EXCEPTIONDATA, 100);
     rig.run_ms(300);
@@ -475,8 +473,7 @@ fn a_demand_written_just_before_the_reset_is_dropped_too() {
 /// restarts too, so it holds exactly where it stands.
 #[test]
 fn a_drive_leaves_its_exception_from_zero_output() {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write_value(REGDS_DRIVE_REQSPEED, 1000.0);
     rig.run_ms(3000);
     assert!(rig.wheel.speed > 900.0, "{}", rig.wheel.speed);
@@ -517,8 +514,7 @@ fn a_drive_leaves_its_exception_from_zero_output() {
 /// it holding where it stands, not pushed on by the integral it had built.
 #[test]
 fn a_lift_leaves_its_exception_from_zero_output() {
-    let mut rig = LlRig::new();
-    rig.bench.calibrate();
+    let mut rig = LlRig::calibrated();
     rig.bench.write_value(REGLL_ONE_REQPOS, 60.0);
     rig.bench.write_value(REGLL_TWO_REQPOS, -60.0);
     rig.run_ms(100);
@@ -539,8 +535,7 @@ fn a_lift_leaves_its_exception_from_zero_output() {
 
 #[test]
 fn control_keeps_the_last_applied_duty_in_exception() {
-    let mut rig = LlRig::new();
-    rig.bench.calibrate();
+    let mut rig = LlRig::calibrated();
     rig.bench.write_value(REGLL_ONE_REQPOS, 60.0);
     rig.run_ms(300);
     let applied = rig.bench.read_value(REGLL_ONE_CONTROL);

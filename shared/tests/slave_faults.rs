@@ -10,8 +10,7 @@ use slave_support::{DsRig, LlRig};
 
 /// A drive/steer rig after calibrate(), with the stall checks enabled at 120.
 fn ds_rig() -> DsRig {
-    let mut rig = DsRig::new();
-    rig.bench.calibrate();
+    let mut rig = DsRig::calibrated();
     rig.bench.write_value(REGDS_DRIVE_STALLCHECK, 120.0);
     rig.bench.write_value(REGDS_STEER_STALLCHECK, 120.0);
     rig.run_ms(700);
@@ -240,8 +239,7 @@ fn power_on_level_is_120() {
 
 #[test]
 fn a_held_lift_raises_stall_and_the_other_lift_moves_on() {
-    let mut rig = LlRig::new();
-    rig.bench.calibrate();
+    let mut rig = LlRig::calibrated();
     rig.bench.write_value(REGLL_ONE_STALLCHECK, 120.0);
     rig.bench.write_value(REGLL_TWO_STALLCHECK, 120.0);
     rig.run_ms(10);
@@ -265,8 +263,7 @@ fn a_held_lift_raises_stall_and_the_other_lift_moves_on() {
 
 #[test]
 fn a_lift_step_raises_nothing() {
-    let mut rig = LlRig::new();
-    rig.bench.calibrate();
+    let mut rig = LlRig::calibrated();
     rig.bench.write_value(REGLL_ONE_STALLCHECK, 120.0);
     rig.bench.write_value(REGLL_TWO_STALLCHECK, 120.0);
     rig.bench.write_value(REGLL_ONE_REQPOS, 30.0);

@@ -353,6 +353,13 @@ impl DsRig {
         }
     }
 
+    /// A new rig after the library's calibrate().
+    pub fn calibrated() -> DsRig {
+        let mut rig = DsRig::new();
+        rig.bench.calibrate();
+        rig
+    }
+
     /// One tick: sensors in, logic, plants advanced under the outputs.
     pub fn tick(&mut self) -> Outputs {
         let current = [
@@ -397,6 +404,13 @@ impl LlRig {
             bench: Bench::new(Variant::LiftLift),
             lifts: [Gearmotor::lift(), Gearmotor::lift()],
         }
+    }
+
+    /// A new rig after the library's calibrate().
+    pub fn calibrated() -> LlRig {
+        let mut rig = LlRig::new();
+        rig.bench.calibrate();
+        rig
     }
 
     pub fn tick(&mut self) -> Outputs {
