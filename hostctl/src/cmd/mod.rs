@@ -2,6 +2,7 @@
 //! configuring a read set and reading one.
 
 pub mod fresh;
+mod hold;
 pub mod live;
 pub mod pc;
 pub mod read;
