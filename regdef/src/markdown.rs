@@ -66,7 +66,9 @@ pub fn generate_markdown(def: &Definition) -> String {
         out,
         "- **Range** `a .. b`: a value v is sent as trunc((clamp(v, a, b) - a) * F / (b - a)) \
          with F = 65534 (2 bytes) or 254 (1 byte). `unmapped` registers carry the integer \
-         itself."
+         itself. The PC side maps in float32 as the original did; the slaves compute in \
+         fixed point, so a monitoring register may read one count away from the original's \
+         value (docs/protocol.md, \"How the slaves compute\")."
     );
     let _ = writeln!(
         out,

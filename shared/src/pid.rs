@@ -12,8 +12,12 @@
 //!
 //! Gains act per update; the interval between updates is never used. Everything is
 //! multiplication ([`mul`]) and addition (no division), saturating at the `I16F16` limits
-//! (±32768) where the original's float would keep growing: a difference no working
-//! program can see, since the duty saturates at 255 long before.
+//! (±32768) where the original's float would keep growing. The duty saturates at 255
+//! long before, so this shows only after a long wind-up of the speed form's u (a wheel
+//! held against a demand it cannot reach): when the demand then goes to 0, the 0.96
+//! bleed keeps full duty for 118 updates here (17.7 s of 150-ms windows), where the
+//! original's u, wound up further, keeps it longer (163 from u = 200,000: 24.5 s).
+//! Documented in docs/protocol.md ("How the slaves compute").
 
 pub mod sum;
 
@@ -722,6 +726,34 @@ mod tests {
                 assert_eq!(clamp(x, cap), x.max(-cap).min(cap), "{x} {cap}");
             }
         }
+    }
+
+    #[test]
+    fn a_wound_up_speed_form_stops_at_the_limit_and_keeps_full_duty_for_118_bleeds() {
+        // A wheel held against 1000 ticks/s with P = 10: u grows by ~10,000 an update.
+        let gains = Gains {
+            p: fix(10.0),
+            ..Gains::ZERO
+        };
+        let mut pid = Pid::new();
+        for _ in 0..20 {
+            pid.speed(&gains, fix(1000.0), Fix::ZERO);
+        }
+        assert_eq!(pid.control(), Fix::MAX, "u saturates at the I16F16 limit");
+        // The demand goes to 0 (the wheel still held): only the bleed acts.
+        let mut full = 0;
+        while pid.speed(&gains, Fix::ZERO, Fix::ZERO).duty.magnitude == 255 {
+            full += 1;
+        }
+        assert_eq!(full, 118, "the 119th bleed is the first below full duty");
+        // The original's float u after 20 updates of 10·(1000 − 0) keeps full duty for
+        // 163 bleeds.
+        let (mut u, mut n) = (200_000.0f64, 0);
+        while (u * 0.96).trunc() >= 255.0 {
+            u *= 0.96;
+            n += 1;
+        }
+        assert_eq!(n, 163);
     }
 
     #[test]

@@ -396,6 +396,31 @@ mod tests {
     }
 
     #[test]
+    fn a_monitoring_value_is_within_one_count_of_the_originals_float32() {
+        // docs/protocol.md ("How the slaves compute"): the slave unmaps a demand and maps
+        // a monitoring value in fixed point, the original in float32. Over every raw
+        // REQSPEED, the error of a held wheel (demand − 0) read back through ERROR.
+        let (req, err) = (id::REGDS_DRIVE_REQSPEED, id::REGDS_DRIVE_ERROR);
+        let (req_reg, err_reg) = (&DS[usize::from(req)], &DS[usize::from(err)]);
+        let (req_scale, err_scale) = (Scale::of(&DS, req), Scale::of(&DS, err));
+        let mut differ = 0;
+        for raw in 0..=65534u16 {
+            let here = err_scale.map(req_scale.unmap(raw));
+            let original = crate::mapping::map(crate::mapping::unmap(raw, req_reg), err_reg);
+            assert!(
+                here.abs_diff(original) <= 1,
+                "{raw:#06x}: {here} {original}"
+            );
+            differ += usize::from(here != original);
+        }
+        assert!(differ > 0, "the fixed point is not float32");
+        // The example the docs give: a demand of 1000 (0x9ffe) on a held wheel.
+        let here = err_scale.map(req_scale.unmap(0x9ffe));
+        let original = crate::mapping::map(crate::mapping::unmap(0x9ffe, req_reg), err_reg);
+        assert_eq!((here, original), (0xfffb, 0xfffa));
+    }
+
+    #[test]
     #[should_panic(expected = "a reciprocal of more than 3 bytes")]
     fn a_scale_spanning_less_than_256_has_no_mapping() {
         // INTEGRALDECAY spans 0..1: its reciprocal needs 32 bits.
