@@ -82,8 +82,8 @@ pub enum Command {
     /// then the library's emergency stop: gains and demands 0; a board that ignores it
     /// fails the line), wait SECONDS (a live view of
     /// required against actual per wheel, redrawn in place; to a file or pipe, the last
-    /// view only, when it ends), watch SECONDS (the same view kept as a log, one every
-    /// second: for a record that survives a killed run), show DEV REG… (adds registers, e.g. `show 1
+    /// view only, when it ends or Ctrl-C stops it), watch SECONDS (the same view kept as a
+    /// log, one every second: for a record that survives a killed run), show DEV REG… (adds registers, e.g. `show 1
     /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
@@ -93,9 +93,11 @@ pub enum Command {
     /// script ends (closing the port reboots it), so end with `wait` for a demand to act.
     /// The first write waits until 5 s after the master's banner, when the master starts
     /// watching the controllers.
+    /// Ctrl-C stops the script where it is (a `wait` first draws its view once more) and
+    /// hostctl closes the port, which stops the rover; a second Ctrl-C ends it at once.
     /// Exit status 3: the script ran to its end with the rover stopped (a board in an
     /// exception other than its boot state, or a controller not answering, at the last
-    /// view or at one more update() when frames went out after it).
+    /// view or at one more update() when frames went out after it); 130: stopped by Ctrl-C.
     Run(cmd::run::Args),
 }
 

@@ -260,6 +260,14 @@ pub enum HostError {
         devices: Vec<u8>,
     },
 
+    /// Ctrl-C (or SIGTERM) stopped a script ([`crate::interrupt`]).
+    #[error("stopped by Ctrl-C {when}; hostctl closes the port, which reboots the master and so stops every motor (a second Ctrl-C ends hostctl at once)")]
+    Interrupted {
+        /// Where in the line: before it, during its actions, or during its view (then
+        /// with a pointer to the view drawn last).
+        when: &'static str,
+    },
+
     /// The twin could not be started or joined.
     #[error("cannot start the twin: {why}; pass --port PATH for a real rover, or start the twin yourself with `twin --link PATH` and pass hostctl the same --port PATH")]
     Twin {

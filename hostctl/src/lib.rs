@@ -23,6 +23,7 @@ pub mod error;
 pub mod exception;
 #[cfg(test)]
 mod fake;
+pub mod interrupt;
 pub mod json;
 pub mod link;
 pub mod meaning;
@@ -156,13 +157,22 @@ pub fn run<P: Port>(
 
 /// The exit status for a failure: 3 for a script that ran to its end with the rover in
 /// exception ([`HostError::EndedInException`]), so a program can tell it from a script
-/// that could not run; 1 for anything else (clap's usage errors are 2).
+/// that could not run; 130 for a script stopped by Ctrl-C (as a shell reports a program
+/// that SIGINT ended); 1 for anything else (clap's usage errors are 2).
 pub fn exit_status(error: &HostError) -> std::process::ExitCode {
+    std::process::ExitCode::from(exit_code(error))
+}
+
+/// [`exit_status`]'s number.
+pub fn exit_code(error: &HostError) -> u8 {
     match error {
-        HostError::EndedInException { .. } | HostError::WatchEndedUnread { .. } => {
-            std::process::ExitCode::from(3)
-        }
-        _ => std::process::ExitCode::FAILURE,
+        HostError::EndedInException { .. } | HostError::WatchEndedUnread { .. } => 3,
+        HostError::Interrupted { .. } => 130,
+        HostError::ScriptStep { source, .. } => match exit_code(source) {
+            130 => 130,
+            _ => 1,
+        },
+        _ => 1,
     }
 }
 

@@ -21,6 +21,11 @@ fn main() -> ExitCode {
             None => e.exit(),
         },
     };
+    // Ctrl-C stops a script after drawing its view once more (see `interrupt`); other
+    // commands keep the default: they end at once, closing the port.
+    if matches!(cli.command, hostctl::Command::Run(_)) {
+        hostctl::interrupt::install();
+    }
     let style = Style {
         json: cli.json,
         in_place: std::io::stdout().is_terminal(),

@@ -110,6 +110,10 @@ pub trait Clock {
     fn now(&self) -> Duration;
     /// Lets `d` pass.
     fn sleep(&mut self, d: Duration);
+    /// Whether the user has asked the script to stop (Ctrl-C, [`crate::interrupt`]).
+    fn interrupted(&self) -> bool {
+        crate::interrupt::requested()
+    }
 }
 
 /// The wall clock.
@@ -137,6 +141,14 @@ impl Clock for WallClock {
         std::thread::sleep(d);
     }
 }
+
+/// [`HostError::Interrupted`]'s `when` for Ctrl-C between two lines.
+const INTERRUPTED_BEFORE: &str = "before this line ran";
+/// … during a line's actions.
+const INTERRUPTED_DURING: &str = "during this line";
+/// … during a line's view, drawn once more from the last complete update.
+const INTERRUPTED_VIEW: &str =
+    "during this line's view; the view above is the rover as it was then";
 
 /// Pause between two update() calls while the view is live: the library's operator tick.
 pub const TICK: Duration = Duration::from_millis(10);
@@ -205,6 +217,16 @@ pub fn run<P: Port>(
             let since_banner = plan.settled + clock.now().saturating_sub(start);
             wait_for_the_watch(since_banner, clock, output)?;
         }
+        if clock.interrupted() {
+            return Err(HostError::ScriptStep {
+                path: plan.path.clone(),
+                line: line.number,
+                text: line.text.clone(),
+                source: Box::new(HostError::Interrupted {
+                    when: INTERRUPTED_BEFORE,
+                }),
+            });
+        }
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
             if output.json {
@@ -217,6 +239,14 @@ pub fn run<P: Port>(
         }
         // The view shows the demands as they stand after this line.
         run_line(line, link, clock, &poller, &mut session, output).map_err(|source| {
+            // Ctrl-C cuts a serial wait short: what failed then is the interruption.
+            let source = match source {
+                HostError::Interrupted { .. } => source,
+                _ if clock.interrupted() => HostError::Interrupted {
+                    when: INTERRUPTED_DURING,
+                },
+                _ => source,
+            };
             HostError::ScriptStep {
                 path: plan.path.clone(),
                 line: line.number,
@@ -250,7 +280,15 @@ fn wait_for_the_watch(
     }
     .map_err(HostError::Output)?;
     output.out.flush().map_err(HostError::Output)?;
-    clock.sleep(left);
+    // In slices, so that Ctrl-C stops the script before its first write.
+    let until = clock.now() + left;
+    while !clock.interrupted() {
+        let now = clock.now();
+        if now >= until {
+            break;
+        }
+        clock.sleep((until - now).min(REDRAW));
+    }
     Ok(())
 }
 
@@ -703,16 +741,30 @@ fn live<P: Port>(
     let mut updates = 0u64;
     let mut next_draw = start;
     let period = if log { LOG_EVERY } else { REDRAW };
+    let mut previous: Option<(Snapshot, Shown)> = None;
     loop {
-        let snapshot: Snapshot = poller.update(link)?;
-        let shown = read_shown(session, link)?;
-        session.dropped.note(&snapshot, &line.pc);
-        session.last = Some(snapshot.clone());
-        session.sent_since_last = false;
-        updates += 1;
+        let read = poller
+            .update(link)
+            .and_then(|snapshot| Ok((snapshot, read_shown(session, link)?)));
+        // Ctrl-C ends the view as its time would, drawn once more so that a file keeps
+        // it; it can cut a serial wait short, and the last complete update is then shown.
+        let (snapshot, shown, interrupted) = match read {
+            Ok((snapshot, shown)) => {
+                session.dropped.note(&snapshot, &line.pc);
+                session.last = Some(snapshot.clone());
+                session.sent_since_last = false;
+                updates += 1;
+                (snapshot, shown, clock.interrupted())
+            }
+            Err(e) if clock.interrupted() => match previous.take() {
+                Some((snapshot, shown)) => (snapshot, shown, true),
+                None => return Err(e),
+            },
+            Err(e) => return Err(e),
+        };
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
-        let done = elapsed >= time;
+        let done = elapsed >= time || interrupted;
         let draw = if log || output.in_place {
             now >= next_draw || done
         } else {
@@ -742,9 +794,15 @@ fn live<P: Port>(
             output.out.flush().map_err(HostError::Output)?;
             next_draw = now + period;
         }
+        if interrupted {
+            return Err(HostError::Interrupted {
+                when: INTERRUPTED_VIEW,
+            });
+        }
         if done {
             return Ok(());
         }
+        previous = Some((snapshot, shown));
         clock.sleep(TICK.min(time - elapsed));
     }
 }
@@ -854,7 +912,8 @@ mod tests {
         replies.extend([vec![0], vec![0]]);
         let ran = run_plan(&early, &replies, false);
         ran.result.unwrap();
-        assert_eq!(ran.pauses, [Duration::from_secs(3)], "one wait, once");
+        // One wait of 3 s, in slices that Ctrl-C can end.
+        assert_eq!(ran.pauses, [REDRAW; 15]);
         let text: Vec<&str> = ran.text.lines().skip(1).collect();
         assert_eq!(
             text,
@@ -873,7 +932,7 @@ mod tests {
         assert!(ran.pauses.is_empty(), "{:?}", ran.pauses);
         early.settled = Duration::from_millis(4500);
         let ran = run_plan(&early, &replies, true);
-        assert_eq!(ran.pauses, [Duration::from_millis(500)]);
+        assert_eq!(ran.pauses, [REDRAW, REDRAW, Duration::from_millis(100)]);
         assert!(
             ran.text
                 .contains("{\"command\":\"run\",\"note\":\"waiting 0.5 s before"),
@@ -1716,6 +1775,155 @@ write 4 reset 2
         assert_eq!(ran.hex[10], "05 12 01 00 01");
         assert_eq!(ran.hex[20], "05 42 01 00 02");
         assert_eq!(ran.pauses, [RESET_GAP; 9]);
+    }
+
+    /// The fake clock, with Ctrl-C pressed at `at`.
+    struct CtrlCAt(FakeClock, Duration);
+
+    impl Clock for CtrlCAt {
+        fn now(&self) -> Duration {
+            self.0.now()
+        }
+        fn sleep(&mut self, d: Duration) {
+            self.0.sleep(d);
+        }
+        fn interrupted(&self) -> bool {
+            self.0.now() >= self.1
+        }
+    }
+
+    /// Runs `source` against `replies`, to a file (not in place), with Ctrl-C at `at`.
+    fn run_interrupted(source: &str, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
+        let mut port = FakePort::with_replies(replies);
+        let mut link = Link::ready(&mut port);
+        let mut clock = CtrlCAt(FakeClock(Duration::ZERO, Vec::new()), at);
+        let mut out = Vec::new();
+        let mut output = Output {
+            out: &mut out,
+            in_place: false,
+            json,
+            width: || None,
+        };
+        let result = run(&plan(source), &mut link, &mut clock, &mut output);
+        Ran {
+            result,
+            hex: port.frames_hex(),
+            pauses: clock.0 .1,
+            text: String::from_utf8(out).unwrap(),
+        }
+    }
+
+    /// The replies of `init()` and then of `rounds` update() rounds.
+    fn updates(rounds: usize) -> Vec<Vec<u8>> {
+        let mut replies = configure_replies();
+        for _ in 0..rounds {
+            replies.extend(booted());
+        }
+        replies
+    }
+
+    #[test]
+    fn ctrl_c_during_a_wait_draws_its_view_once_and_stops_the_script() {
+        // To a file a `wait` prints its view when it ends: Ctrl-C at 2 s of a 30-s wait
+        // ends it there, with the view, and the script goes no further.
+        let ran = run_interrupted(
+            "wait 30\nsay after\n",
+            &updates(300),
+            Duration::from_secs(2),
+            false,
+        );
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert_eq!(
+            e.to_string(),
+            "t.rover line 1 (`wait 30`) failed: stopped by Ctrl-C during this line's view; the \
+             view above is the rover as it was then; hostctl closes the port, which reboots \
+             the master and so stops every motor (a second Ctrl-C ends hostctl at once)"
+        );
+        let text = ran.text;
+        assert_eq!(text.matches(" updates, ").count(), 1, "one view: {text}");
+        assert!(text.contains("\n2.0 s: 201 updates, "), "{text}");
+        assert!(!text.lines().any(|l| l == "after"), "{text}");
+        // 201 update() rounds of ten frames after the nine set configurations.
+        assert_eq!(ran.hex.len(), 9 + 1 + 201 * 10);
+    }
+
+    #[test]
+    fn ctrl_c_that_cuts_an_update_short_shows_the_last_complete_one() {
+        // Ctrl-C at 45 ms; the sixth round's read fails (as a serial wait cut short by the
+        // signal does): the view is the fifth round's, not an error about the link.
+        let ran = run_interrupted("wait 30\n", &updates(5), Duration::from_millis(45), true);
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert!(
+            e.to_string()
+                .contains("stopped by Ctrl-C during this line's view"),
+            "{e}"
+        );
+        let views: Vec<&str> = ran
+            .text
+            .lines()
+            .filter(|l| l.contains("\"updates\""))
+            .collect();
+        assert_eq!(views.len(), 1, "{}", ran.text);
+        assert!(views[0].contains("\"updates\":5"), "{}", views[0]);
+    }
+
+    #[test]
+    fn ctrl_c_between_lines_stops_before_the_next_and_a_cut_line_is_the_interruption() {
+        // Before the first line: nothing but the set configurations goes out.
+        let ran = run_interrupted("reset\n", &updates(0), Duration::ZERO, false);
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert!(
+            e.to_string().starts_with(
+                "t.rover line 1 (`reset`) failed: stopped by Ctrl-C before this line ran;"
+            ),
+            "{e}"
+        );
+        assert_eq!(ran.hex.len(), 10);
+        // During a line: its reset waits two board ticks before its write, Ctrl-C comes
+        // meanwhile and the write's reply never comes (the signal cut the wait short).
+        let ran = run_interrupted("reset\n", &updates(0), Duration::from_millis(1), false);
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert!(
+            e.to_string().starts_with(
+                "t.rover line 1 (`reset`) failed: stopped by Ctrl-C during this line;"
+            ),
+            "{e}"
+        );
+        // Its write to controller 1 went out (then the timeout's question to the master).
+        assert_eq!(ran.hex[10], "05 12 01 00 01");
+        // During the wait for the master's watch: the first write never goes out.
+        let mut early = plan("write 1 drive_reqspeed 10\n");
+        early.settled = Duration::from_secs(2);
+        let mut port = FakePort::with_replies(&updates(0));
+        let mut clock = CtrlCAt(
+            FakeClock(Duration::ZERO, Vec::new()),
+            Duration::from_secs(1),
+        );
+        let mut out = Vec::new();
+        let mut output = Output {
+            out: &mut out,
+            in_place: false,
+            json: false,
+            width: || None,
+        };
+        let result = run(&early, &mut Link::ready(&mut port), &mut clock, &mut output);
+        let e = result.unwrap_err().to_string();
+        assert!(
+            e.contains(
+                "(`write 1 drive_reqspeed 10`) failed: stopped by Ctrl-C before this line ran;"
+            ),
+            "{e}"
+        );
+        assert_eq!(port.frames_hex().len(), 10, "no write");
+        assert_eq!(
+            clock.0 .0,
+            Duration::from_secs(1),
+            "the wait ended at Ctrl-C"
+        );
     }
 
     #[test]
