@@ -35,7 +35,9 @@ fn main() -> ExitCode {
     // The settle is waited here, in the twin's emulated time when the port is a twin's.
     let open = |path: &str| {
         let link = link::open_serial(path, Duration::ZERO)?;
-        hostctl::twin::clock_for(path).sleep(settle);
+        // Ctrl-C during a long settle stops a script before it starts.
+        let mut clock = hostctl::twin::clock_for(path);
+        hostctl::cmd::run::sleep_unless_interrupted(clock.as_mut(), settle);
         Ok(link)
     };
     let env = std::env::var("BLODWEN_PORT").ok();

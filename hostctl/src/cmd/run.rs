@@ -280,8 +280,13 @@ fn wait_for_the_watch(
     }
     .map_err(HostError::Output)?;
     output.out.flush().map_err(HostError::Output)?;
-    // In slices, so that Ctrl-C stops the script before its first write.
-    let until = clock.now() + left;
+    sleep_unless_interrupted(clock, left);
+    Ok(())
+}
+
+/// Lets `d` pass on `clock`, in slices, ending early once Ctrl-C is pressed.
+pub fn sleep_unless_interrupted(clock: &mut dyn Clock, d: Duration) {
+    let until = clock.now() + d;
     while !clock.interrupted() {
         let now = clock.now();
         if now >= until {
@@ -289,7 +294,6 @@ fn wait_for_the_watch(
         }
         clock.sleep((until - now).min(REDRAW));
     }
-    Ok(())
 }
 
 /// The run's outcome once every line is done: an error when the rover ends in an exception
