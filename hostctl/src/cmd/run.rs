@@ -26,8 +26,8 @@
 //! with `reply_lost` when the line lost the reply; an EXCEPTIONDATA value also comes taken
 //! apart as `exception`). A failure ends the output with `error` (see [`crate::run_with`]).
 //!
-//! `--pairs` names the wheel pairs fitted, as the library's init() mask (see
-//! [`super::pc::Pairs`]).
+//! `--pairs` takes the fitted wheel pairs as a list of pair numbers (e.g. `0,2`), kept as
+//! the library's init() mask (see [`super::pc::Pairs`]).
 
 use std::io::Write;
 use std::path::PathBuf;

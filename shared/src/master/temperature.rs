@@ -20,7 +20,9 @@
 //!   exception (EXCEPTIONDATA 0x000a), not a made-up temperature.
 //! - **No sensors at all** (D = 0, undefined in the original): every tick raises type 10
 //!   for the ambient sensor and reads nothing.
-//! - **A bad scratchpad CRC** (the original checked none) leaves the register unchanged.
+//! - **A bad scratchpad CRC** (the original checked none) is no reading: the register
+//!   goes to 0.0 °C (raw 0x2aaa) and its REGMASTER_TEMPSREAD bit is cleared
+//!   ([`super::local::LocalRegisters::set_temperature`]), never a stale value.
 //! - **The first reading**: the firmware starts a conversion on sensor 0 right after the
 //!   discovery ([`Poller::first_conversion`]), so sensor 0's first reading, 5 s later, is a
 //!   measurement and not the sensor's power-on value (85 °C).

@@ -1,15 +1,17 @@
 //! [`Core`]: every decision of one slave board, run from the control tick.
 //!
-//! A tick has three phases, so the register file (shared with the TWI interrupt) is
-//! locked only for copying:
+//! A tick has three phases:
 //!
-//! 1. [`Core::take_writes`] (register file locked): applies every register the bus
-//!    changed since the previous tick, in id order, and clears the marks.
+//! 1. the registers the bus changed since the previous tick, applied in id order
+//!    ([`Core::apply`]). The firmware takes one changed register at a time under a short
+//!    lock of the register file (shared with the TWI interrupt) and applies it with the
+//!    file unlocked (`slave/src/registers.rs`); [`Core::take_writes`] is the same for a
+//!    file the caller holds, as host tests do;
 //! 2. [`Core::step`] (no lock): sensors, control updates, faults, exception state,
-//!    outputs.
+//!    outputs;
 //! 3. [`Core::publish`] (register file locked): writes the monitoring registers.
 //!
-//! [`Core::tick`] runs all three.
+//! [`Core::tick`] runs all three on a file the caller holds (the host's composition).
 //!
 //! **Timing.** The firmware calls the tick every [`TICK_US`] (1 ms) with its µs clock.
 //! Position controllers update every [`POSITION_PERIOD_US`] (2 ms, 500 Hz; on a
