@@ -48,6 +48,8 @@ pub enum BannerFailure {
     },
     /// The port reported an error other than a timeout.
     Io(io::ErrorKind),
+    /// Ctrl-C or SIGTERM came meanwhile ([`crate::interrupt`]).
+    Interrupted,
 }
 
 /// Reads lines (LF ends a line, CR is dropped) until one equals `Ready`.
@@ -89,7 +91,12 @@ fn read_line<P: Port + ?Sized>(port: &mut P, lines: usize) -> Result<String, Ban
             Err(e) if e.kind() == io::ErrorKind::TimedOut => {
                 return Err(BannerFailure::Silent { lines })
             }
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            // A signal cut the wait short: go on waiting, unless it asks hostctl to stop.
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {
+                if crate::interrupt::requested() {
+                    return Err(BannerFailure::Interrupted);
+                }
+            }
             Err(e) => return Err(BannerFailure::Io(e.kind())),
         }
     }

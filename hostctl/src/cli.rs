@@ -27,8 +27,9 @@ pub struct Cli {
 
     /// Print one JSON object per line instead of text for people. A failure is a last
     /// line `{"command":…,"error":…}` (a script's also with its `line` and `text`; a run
-    /// that ended with the rover stopped with its `faults`), as well as the error on stderr
-    /// and exit status 1 (3 for that run).
+    /// that ended with the rover stopped with its `faults`; one stopped by Ctrl-C or SIGTERM
+    /// with `interrupted` and the `line`), as well as the error on stderr and exit status 1
+    /// (3 for that run, 130 and 143 for those).
     #[arg(long, global = true)]
     pub json: bool,
 
@@ -93,11 +94,14 @@ pub enum Command {
     /// script ends (closing the port reboots it), so end with `wait` for a demand to act.
     /// The first write waits until 5 s after the master's banner, when the master starts
     /// watching the controllers.
-    /// Ctrl-C stops the script where it is (a `wait` first draws its view once more) and
-    /// hostctl closes the port, which stops the rover; a second Ctrl-C ends it at once.
+    /// Ctrl-C (or SIGTERM) stops the script after the line in progress (a `wait` or `watch`
+    /// ends at once, drawing its view once more; a `calibrate` leaves the boards it stopped
+    /// stopped), also while hostctl waits for the master or the twin, and hostctl closes
+    /// the port, which stops the rover; a second one ends hostctl at once.
     /// Exit status 3: the script ran to its end with the rover stopped (a board in an
     /// exception other than its boot state, or a controller not answering, at the last
-    /// view or at one more update() when frames went out after it); 130: stopped by Ctrl-C.
+    /// view or at one more update() when frames went out after it); 130: stopped by Ctrl-C;
+    /// 143: by SIGTERM.
     Run(cmd::run::Args),
 }
 

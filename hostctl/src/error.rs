@@ -260,12 +260,16 @@ pub enum HostError {
         devices: Vec<u8>,
     },
 
-    /// Ctrl-C (or SIGTERM) stopped a script ([`crate::interrupt`]).
-    #[error("stopped by Ctrl-C {when}; hostctl closes the port, which reboots the master and so stops every motor (a second Ctrl-C ends hostctl at once)")]
+    /// Ctrl-C or SIGTERM stopped a script ([`crate::interrupt`]).
+    #[error("stopped by {} {at}", crate::interrupt::name(*signal))]
     Interrupted {
-        /// Where in the line: before it, during its actions, or during its view (then
-        /// with a pointer to the view drawn last).
-        when: &'static str,
+        /// The signal's number.
+        signal: i32,
+        /// Where the script was and what follows, e.g. "during line 3 (`wait 30`); hostctl
+        /// closes the port, …" ([`crate::interrupt::CLOSES`]).
+        at: String,
+        /// The script line it was at, if any.
+        line: Option<usize>,
     },
 
     /// The twin could not be started or joined.

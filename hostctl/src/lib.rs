@@ -157,8 +157,8 @@ pub fn run<P: Port>(
 
 /// The exit status for a failure: 3 for a script that ran to its end with the rover in
 /// exception ([`HostError::EndedInException`]), so a program can tell it from a script
-/// that could not run; 130 for a script stopped by Ctrl-C (as a shell reports a program
-/// that SIGINT ended); 1 for anything else (clap's usage errors are 2).
+/// that could not run; 130 for a script stopped by Ctrl-C and 143 by SIGTERM (as a shell
+/// reports a program that signal ended); 1 for anything else (clap's usage errors are 2).
 pub fn exit_status(error: &HostError) -> std::process::ExitCode {
     std::process::ExitCode::from(exit_code(error))
 }
@@ -167,11 +167,7 @@ pub fn exit_status(error: &HostError) -> std::process::ExitCode {
 pub fn exit_code(error: &HostError) -> u8 {
     match error {
         HostError::EndedInException { .. } | HostError::WatchEndedUnread { .. } => 3,
-        HostError::Interrupted { .. } => 130,
-        HostError::ScriptStep { source, .. } => match exit_code(source) {
-            130 => 130,
-            _ => 1,
-        },
+        HostError::Interrupted { signal, .. } => interrupt::exit_code(*signal),
         _ => 1,
     }
 }
@@ -264,7 +260,7 @@ where
 
 /// A failed command as one JSON line: the command, the error's words and, for a script
 /// line, its number and text.
-fn error_json(command: &Command, error: &HostError) -> String {
+pub(crate) fn error_json(command: &Command, error: &HostError) -> String {
     let object = json::Object::new()
         .str("command", command.name())
         .str("error", &error.to_string());
@@ -273,6 +269,14 @@ fn error_json(command: &Command, error: &HostError) -> String {
             object
                 .int("line", i64::try_from(*line).unwrap_or(i64::MAX))
                 .str("text", text)
+        }
+        // Which signal, and the line it stopped the script at.
+        HostError::Interrupted { signal, line, .. } => {
+            let object = object.str("interrupted", interrupt::name(*signal));
+            match line {
+                Some(line) => object.int("line", i64::try_from(*line).unwrap_or(i64::MAX)),
+                None => object,
+            }
         }
         // What held the rover stopped, one entry per board or group of boards.
         HostError::EndedInException { faults, .. } => object.raw(

@@ -82,6 +82,16 @@ impl<P: Port> Link<P> {
         match banner::wait_ready(&mut port) {
             Ok(_) => {}
             Err(BannerFailure::Io(kind)) => return Err(HostError::Io(io::Error::from(kind))),
+            Err(BannerFailure::Interrupted) => {
+                return Err(HostError::Interrupted {
+                    signal: crate::interrupt::caught().unwrap_or(2),
+                    at: format!(
+                        "while waiting for the master's banner, before the script started{}",
+                        crate::interrupt::CLOSES
+                    ),
+                    line: None,
+                })
+            }
             Err(BannerFailure::Silent { lines }) => {
                 return Err(HostError::NoBanner {
                     path: path.to_owned(),

@@ -218,6 +218,17 @@ pub fn join_or_start(note: &mut dyn FnMut(&str)) -> Result<String, HostError> {
                 why: format!("it exited ({status}): {}", log_tail(&log_path)),
             });
         }
+        if let Some(signal) = crate::interrupt::caught() {
+            return Err(HostError::Interrupted {
+                signal,
+                at: format!(
+                    "while the twin started, before the script started; the twin goes on \
+                     starting behind {text} and exits after {} min unused",
+                    IDLE_EXIT_S / 60
+                ),
+                line: None,
+            });
+        }
         if start.elapsed() > START_TIMEOUT {
             return Err(HostError::Twin {
                 why: format!(

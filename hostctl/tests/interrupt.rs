@@ -1,6 +1,7 @@
-//! Ctrl-C to the real `hostctl` binary during `run`: with its output going to a pipe, as
-//! to a log file, the `wait` it interrupts still prints its view, and it exits with status
-//! 130 and says why. The rover is a scripted master on a pseudo-terminal that answers
+//! Ctrl-C and SIGTERM to the real `hostctl` binary during `run`: with its output going to
+//! a pipe, as to a log file, the `wait` it interrupts still prints its view, and it exits
+//! at once with status 130 (143 for SIGTERM) and says why; also while it waits for the
+//! master's banner. The rover is a scripted master on a pseudo-terminal that answers
 //! every frame with zeros (every board running, no exception).
 
 use std::fs::File;
@@ -16,8 +17,12 @@ use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
 use nix::unistd::{ttyname, Pid};
 use shared::regs::BoardKind;
 
-/// Answers hostctl's frames until the pty closes, counting the reads (update rounds).
-fn scripted_master(mut pty: File, reads: Arc<AtomicUsize>) {
+/// Answers hostctl's frames until the pty closes, counting the reads (update rounds); a
+/// master that never boots (`banner` false) sends nothing.
+fn scripted_master(mut pty: File, reads: Arc<AtomicUsize>, banner: bool) {
+    if !banner {
+        return std::thread::park();
+    }
     pty.write_all(b"Starting\r\nMar 29 2017 14:03:11\r\n1520\r\nReady\r\n")
         .unwrap();
     let mut sets: Vec<Vec<u8>> = vec![Vec::new(); 8];
@@ -52,8 +57,24 @@ fn scripted_master(mut pty: File, reads: Arc<AtomicUsize>) {
     }
 }
 
-#[test]
-fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
+/// What hostctl printed and its exit status after `signal` came once `ready` said so.
+struct Stopped {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+    /// From the signal to hostctl's exit.
+    took: Duration,
+    /// Reads the master answered after the signal.
+    reads_after: usize,
+}
+
+/// Runs `hostctl run` on a script of a 60-s wait against the scripted master and sends
+/// `signal` once `ready(reads so far, time since start)` says so.
+fn run_and_signal(
+    banner: bool,
+    signal: Signal,
+    ready: impl Fn(usize, Duration) -> bool,
+) -> Stopped {
     let pty = openpty(None, None).unwrap();
     let mut attrs = tcgetattr(&pty.slave).unwrap();
     cfmakeraw(&mut attrs);
@@ -62,9 +83,10 @@ fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
     let reads = Arc::new(AtomicUsize::new(0));
     let counted = Arc::clone(&reads);
     let master = File::from(pty.master);
-    std::thread::spawn(move || scripted_master(master, counted));
+    std::thread::spawn(move || scripted_master(master, counted, banner));
 
-    let script = std::env::temp_dir().join(format!("hostctl-ctrl-c-{}.rover", std::process::id()));
+    let name = format!("hostctl-signal-{}-{signal}.rover", std::process::id());
+    let script = std::env::temp_dir().join(name);
     std::fs::write(&script, "wait 60\nsay after the wait\n").unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_hostctl"))
         .args(["--port", &path, "--settle-ms", "0", "run"])
@@ -73,22 +95,39 @@ fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Some update() rounds (ten reads each) into the wait, then Ctrl-C.
     let start = Instant::now();
-    while reads.load(Ordering::Relaxed) < 10 * 20 {
+    while !ready(reads.load(Ordering::Relaxed), start.elapsed()) {
         assert!(
             start.elapsed() < Duration::from_secs(20),
             "hostctl never polled"
         );
         std::thread::sleep(Duration::from_millis(5));
     }
-    kill(Pid::from_raw(child.id() as i32), Signal::SIGINT).unwrap();
+    let sent = Instant::now();
+    let before = reads.load(Ordering::Relaxed);
+    kill(Pid::from_raw(child.id() as i32), signal).unwrap();
     let out = child.wait_with_output().unwrap();
+    let took = sent.elapsed();
     let _ = std::fs::remove_file(&script);
-    let stdout = String::from_utf8(out.stdout).unwrap();
-    let stderr = String::from_utf8(out.stderr).unwrap();
+    Stopped {
+        code: out.status.code(),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+        took,
+        reads_after: reads.load(Ordering::Relaxed) - before,
+    }
+}
 
-    assert_eq!(out.status.code(), Some(130), "{stdout}\n{stderr}");
+/// Twenty update() rounds (ten reads each) into the wait.
+fn into_the_wait(reads: usize, _: Duration) -> bool {
+    reads >= 10 * 20
+}
+
+#[test]
+fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
+    let s = run_and_signal(true, Signal::SIGINT, into_the_wait);
+    let (stdout, stderr) = (&s.stdout, &s.stderr);
+    assert_eq!(s.code, Some(130), "{stdout}\n{stderr}");
     assert_eq!(
         stdout.matches(" updates, ").count(),
         1,
@@ -102,14 +141,41 @@ fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
     assert!(!stdout.contains("after the wait"), "{stdout}");
     assert!(
         stderr.contains(
-            "line 1 (`wait 60`) failed: stopped by Ctrl-C during this line's view; the view \
-             above is the rover as it was then; hostctl closes the port, which reboots the \
-             master and so stops every motor"
+            "stopped by Ctrl-C during line 1 (`wait 60`); the view above is the rover as it \
+             was then; hostctl closes the port, which reboots the master and so stops every \
+             motor"
         ),
         "{stderr}"
     );
+    // At once: the round in progress, and nothing after it.
+    assert!(s.took < Duration::from_secs(2), "{:?}", s.took);
+    assert!(s.reads_after <= 10, "{} reads after Ctrl-C", s.reads_after);
+}
+
+#[test]
+fn sigterm_stops_a_script_as_ctrl_c_does_with_status_143() {
+    let s = run_and_signal(true, Signal::SIGTERM, into_the_wait);
+    assert_eq!(s.code, Some(143), "{}\n{}", s.stdout, s.stderr);
     assert!(
-        start.elapsed() < Duration::from_secs(30),
-        "the wait was cut short"
+        s.stderr
+            .contains("stopped by SIGTERM during line 1 (`wait 60`)"),
+        "{}",
+        s.stderr
     );
+    assert_eq!(s.stdout.matches(" updates, ").count(), 1, "{}", s.stdout);
+    assert!(s.took < Duration::from_secs(2), "{:?}", s.took);
+}
+
+#[test]
+fn ctrl_c_while_the_master_is_silent_stops_at_once() {
+    // No banner: hostctl would wait 5 s for each line of it.
+    let s = run_and_signal(false, Signal::SIGINT, |_, t| t > Duration::from_millis(500));
+    assert_eq!(s.code, Some(130), "{}\n{}", s.stdout, s.stderr);
+    assert!(
+        s.stderr
+            .contains("stopped by Ctrl-C while waiting for the master's banner"),
+        "{}",
+        s.stderr
+    );
+    assert!(s.took < Duration::from_secs(2), "{:?}", s.took);
 }

@@ -110,10 +110,30 @@ pub trait Clock {
     fn now(&self) -> Duration;
     /// Lets `d` pass.
     fn sleep(&mut self, d: Duration);
-    /// Whether the user has asked the script to stop (Ctrl-C, [`crate::interrupt`]).
-    fn interrupted(&self) -> bool {
-        crate::interrupt::requested()
+    /// The signal that asked the script to stop (Ctrl-C or SIGTERM, [`crate::interrupt`]).
+    fn interrupted_by(&self) -> Option<i32> {
+        crate::interrupt::caught()
     }
+    /// Whether the script has been asked to stop.
+    fn interrupted(&self) -> bool {
+        self.interrupted_by().is_some()
+    }
+}
+
+/// The error for a script that a signal stopped `at` (e.g. "during line 3 (`wait 30`)"),
+/// with the port open.
+fn stopped(clock: &dyn Clock, at: String, line: Option<&Line>) -> HostError {
+    HostError::Interrupted {
+        // SIGINT should the clock no longer say (it always does).
+        signal: clock.interrupted_by().unwrap_or(2),
+        at: at + crate::interrupt::CLOSES,
+        line: line.map(|l| l.number),
+    }
+}
+
+/// How a message names `line`.
+fn line_words(line: &Line) -> String {
+    format!("line {} (`{}`)", line.number, line.text)
 }
 
 /// The wall clock.
@@ -141,14 +161,6 @@ impl Clock for WallClock {
         std::thread::sleep(d);
     }
 }
-
-/// [`HostError::Interrupted`]'s `when` for Ctrl-C between two lines.
-const INTERRUPTED_BEFORE: &str = "before this line ran";
-/// … during a line's actions.
-const INTERRUPTED_DURING: &str = "during this line";
-/// … during a line's view, drawn once more from the last complete update.
-const INTERRUPTED_VIEW: &str =
-    "during this line's view; the view above is the rover as it was then";
 
 /// Pause between two update() calls while the view is live: the library's operator tick.
 pub const TICK: Duration = Duration::from_millis(10);
@@ -218,14 +230,8 @@ pub fn run<P: Port>(
             wait_for_the_watch(since_banner, clock, output)?;
         }
         if clock.interrupted() {
-            return Err(HostError::ScriptStep {
-                path: plan.path.clone(),
-                line: line.number,
-                text: line.text.clone(),
-                source: Box::new(HostError::Interrupted {
-                    when: INTERRUPTED_BEFORE,
-                }),
-            });
+            let at = format!("before {} ran", line_words(line));
+            return Err(stopped(clock, at, Some(line)));
         }
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
@@ -239,14 +245,9 @@ pub fn run<P: Port>(
         }
         // The view shows the demands as they stand after this line.
         run_line(line, link, clock, &poller, &mut session, output).map_err(|source| {
-            // Ctrl-C cuts a serial wait short: what failed then is the interruption.
-            let source = match source {
-                HostError::Interrupted { .. } => source,
-                _ if clock.interrupted() => HostError::Interrupted {
-                    when: INTERRUPTED_DURING,
-                },
-                _ => source,
-            };
+            if let HostError::Interrupted { .. } = source {
+                return source;
+            }
             HostError::ScriptStep {
                 path: plan.path.clone(),
                 line: line.number,
@@ -254,6 +255,11 @@ pub fn run<P: Port>(
                 source: Box::new(source),
             }
         })?;
+    }
+    // A signal during the last line's actions (only a view ends early).
+    if clock.interrupted() {
+        let at = "after the script's last line ran".to_string();
+        return Err(stopped(clock, at, None));
     }
     ended_in_exception(plan, link, &poller, session)
 }
@@ -265,7 +271,7 @@ fn wait_for_the_watch(
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let left = WATCH_FROM.saturating_sub(since_banner);
-    if left.is_zero() {
+    if left.is_zero() || clock.interrupted() {
         return Ok(());
     }
     let note = format!(
@@ -693,6 +699,14 @@ fn act<P: Port>(
             if frozen.stopped.is_empty() && frozen.unread.is_empty() {
                 return Ok(());
             }
+            // Stopped by a signal: the boards stay stopped until the port closes.
+            if clock.interrupted() {
+                let at = format!(
+                    "during {}, the boards it stopped for the calibration left stopped",
+                    line_words(line)
+                );
+                return Err(stopped(clock, at, Some(line)));
+            }
             let now = poller.update(link)?;
             session.dropped.note(&now, &line.pc);
             let thaw = Thaw::of(&frozen, &now, line.pc.pairs());
@@ -745,27 +759,15 @@ fn live<P: Port>(
     let mut updates = 0u64;
     let mut next_draw = start;
     let period = if log { LOG_EVERY } else { REDRAW };
-    let mut previous: Option<(Snapshot, Shown)> = None;
     loop {
-        let read = poller
-            .update(link)
-            .and_then(|snapshot| Ok((snapshot, read_shown(session, link)?)));
-        // Ctrl-C ends the view as its time would, drawn once more so that a file keeps
-        // it; it can cut a serial wait short, and the last complete update is then shown.
-        let (snapshot, shown, interrupted) = match read {
-            Ok((snapshot, shown)) => {
-                session.dropped.note(&snapshot, &line.pc);
-                session.last = Some(snapshot.clone());
-                session.sent_since_last = false;
-                updates += 1;
-                (snapshot, shown, clock.interrupted())
-            }
-            Err(e) if clock.interrupted() => match previous.take() {
-                Some((snapshot, shown)) => (snapshot, shown, true),
-                None => return Err(e),
-            },
-            Err(e) => return Err(e),
-        };
+        let snapshot: Snapshot = poller.update(link)?;
+        let shown = read_shown(session, link)?;
+        session.dropped.note(&snapshot, &line.pc);
+        session.last = Some(snapshot.clone());
+        session.sent_since_last = false;
+        updates += 1;
+        // Ctrl-C ends the view as its time would, drawn once more so that a file keeps it.
+        let interrupted = clock.interrupted();
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
         let done = elapsed >= time || interrupted;
@@ -799,14 +801,15 @@ fn live<P: Port>(
             next_draw = now + period;
         }
         if interrupted {
-            return Err(HostError::Interrupted {
-                when: INTERRUPTED_VIEW,
-            });
+            let at = format!(
+                "during {}; the view above is the rover as it was then",
+                line_words(line)
+            );
+            return Err(stopped(clock, at, Some(line)));
         }
         if done {
             return Ok(());
         }
-        previous = Some((snapshot, shown));
         clock.sleep(TICK.min(time - elapsed));
     }
 }
@@ -1791,13 +1794,13 @@ write 4 reset 2
         fn sleep(&mut self, d: Duration) {
             self.0.sleep(d);
         }
-        fn interrupted(&self) -> bool {
-            self.0.now() >= self.1
+        fn interrupted_by(&self) -> Option<i32> {
+            (self.0.now() >= self.1).then_some(2)
         }
     }
 
-    /// Runs `source` against `replies`, to a file (not in place), with Ctrl-C at `at`.
-    fn run_interrupted(source: &str, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
+    /// Runs `plan` against `replies`, to a file (not in place), with Ctrl-C at `at`.
+    fn run_interrupted(plan: &Plan, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
         let mut port = FakePort::with_replies(replies);
         let mut link = Link::ready(&mut port);
         let mut clock = CtrlCAt(FakeClock(Duration::ZERO, Vec::new()), at);
@@ -1808,7 +1811,7 @@ write 4 reset 2
             json,
             width: || None,
         };
-        let result = run(&plan(source), &mut link, &mut clock, &mut output);
+        let result = run(plan, &mut link, &mut clock, &mut output);
         Ran {
             result,
             hex: port.frames_hex(),
@@ -1826,23 +1829,24 @@ write 4 reset 2
         replies
     }
 
+    /// The end of every message of a script stopped with the port open.
+    const CLOSES: &str = "; hostctl closes the port, which reboots the master and so stops \
+                          every motor";
+
     #[test]
     fn ctrl_c_during_a_wait_draws_its_view_once_and_stops_the_script() {
         // To a file a `wait` prints its view when it ends: Ctrl-C at 2 s of a 30-s wait
         // ends it there, with the view, and the script goes no further.
-        let ran = run_interrupted(
-            "wait 30\nsay after\n",
-            &updates(300),
-            Duration::from_secs(2),
-            false,
-        );
+        let script = plan("wait 30\nsay after\n");
+        let ran = run_interrupted(&script, &updates(300), Duration::from_secs(2), false);
         let e = ran.result.unwrap_err();
         assert_eq!(crate::exit_code(&e), 130);
         assert_eq!(
             e.to_string(),
-            "t.rover line 1 (`wait 30`) failed: stopped by Ctrl-C during this line's view; the \
-             view above is the rover as it was then; hostctl closes the port, which reboots \
-             the master and so stops every motor (a second Ctrl-C ends hostctl at once)"
+            format!(
+                "stopped by Ctrl-C during line 1 (`wait 30`); the view above is the rover as \
+                 it was then{CLOSES}"
+            )
         );
         let text = ran.text;
         assert_eq!(text.matches(" updates, ").count(), 1, "one view: {text}");
@@ -1850,84 +1854,115 @@ write 4 reset 2
         assert!(!text.lines().any(|l| l == "after"), "{text}");
         // 201 update() rounds of ten frames after the nine set configurations.
         assert_eq!(ran.hex.len(), 9 + 1 + 201 * 10);
+        // As JSON: the view, then the error naming the signal and the line.
+        let ran = run_interrupted(&script, &updates(300), Duration::from_secs(2), true);
+        let cli = <crate::Cli as clap::Parser>::try_parse_from(["hostctl", "run", "t.rover"]);
+        let error = crate::error_json(&cli.unwrap().command, &ran.result.unwrap_err());
+        assert!(
+            error.ends_with(r#""interrupted":"Ctrl-C","line":1}"#),
+            "{error}"
+        );
+        let last = ran.text.lines().last().unwrap_or_default();
+        assert!(last.contains(r#""updates":201"#), "{last}");
     }
 
     #[test]
-    fn ctrl_c_that_cuts_an_update_short_shows_the_last_complete_one() {
-        // Ctrl-C at 45 ms; the sixth round's read fails (as a serial wait cut short by the
-        // signal does): the view is the fifth round's, not an error about the link.
-        let ran = run_interrupted("wait 30\n", &updates(5), Duration::from_millis(45), true);
+    fn a_fault_while_ctrl_c_is_pending_is_reported_as_itself() {
+        // Ctrl-C at 45 ms; the sixth round's replies never come: the timeout is what the
+        // user must know, not a view from before it.
+        let ran = run_interrupted(
+            &plan("wait 30\n"),
+            &updates(5),
+            Duration::from_millis(45),
+            false,
+        );
         let e = ran.result.unwrap_err();
-        assert_eq!(crate::exit_code(&e), 130);
+        assert_eq!(crate::exit_code(&e), 1);
         assert!(
-            e.to_string()
-                .contains("stopped by Ctrl-C during this line's view"),
+            matches!(&e, HostError::ScriptStep { source, .. } if matches!(**source, HostError::Timeout { .. })),
             "{e}"
         );
-        let views: Vec<&str> = ran
-            .text
-            .lines()
-            .filter(|l| l.contains("\"updates\""))
-            .collect();
-        assert_eq!(views.len(), 1, "{}", ran.text);
-        assert!(views[0].contains("\"updates\":5"), "{}", views[0]);
+        assert_eq!(ran.text.matches(" updates, ").count(), 0, "{}", ran.text);
     }
 
     #[test]
-    fn ctrl_c_between_lines_stops_before_the_next_and_a_cut_line_is_the_interruption() {
+    fn ctrl_c_stops_a_script_between_lines_and_after_its_last() {
         // Before the first line: nothing but the set configurations goes out.
-        let ran = run_interrupted("reset\n", &updates(0), Duration::ZERO, false);
+        let ran = run_interrupted(&plan("reset\n"), &updates(0), Duration::ZERO, false);
         let e = ran.result.unwrap_err();
         assert_eq!(crate::exit_code(&e), 130);
-        assert!(
-            e.to_string().starts_with(
-                "t.rover line 1 (`reset`) failed: stopped by Ctrl-C before this line ran;"
-            ),
-            "{e}"
+        assert_eq!(
+            e.to_string(),
+            format!("stopped by Ctrl-C before line 1 (`reset`) ran{CLOSES}")
         );
         assert_eq!(ran.hex.len(), 10);
-        // During a line: its reset waits two board ticks before its write, Ctrl-C comes
-        // meanwhile and the write's reply never comes (the signal cut the wait short).
-        let ran = run_interrupted("reset\n", &updates(0), Duration::from_millis(1), false);
+        // During the last line's actions (its resets wait two board ticks each): the line
+        // ends, and no closing update() follows.
+        let mut replies = updates(0);
+        replies.extend(std::iter::repeat_n(vec![0], 10));
+        let ran = run_interrupted(&plan("reset\n"), &replies, Duration::from_millis(1), false);
         let e = ran.result.unwrap_err();
         assert_eq!(crate::exit_code(&e), 130);
-        assert!(
-            e.to_string().starts_with(
-                "t.rover line 1 (`reset`) failed: stopped by Ctrl-C during this line;"
-            ),
-            "{e}"
+        assert_eq!(
+            e.to_string(),
+            format!("stopped by Ctrl-C after the script's last line ran{CLOSES}")
         );
-        // Its write to controller 1 went out (then the timeout's question to the master).
-        assert_eq!(ran.hex[10], "05 12 01 00 01");
-        // During the wait for the master's watch: the first write never goes out.
+        assert!(
+            ran.hex[10..].iter().all(|f| f.starts_with("05 ")),
+            "{:?}",
+            ran.hex
+        );
+        // During the wait for the master's watch: no note, and the first write never goes
+        // out.
         let mut early = plan("write 1 drive_reqspeed 10\n");
         early.settled = Duration::from_secs(2);
-        let mut port = FakePort::with_replies(&updates(0));
-        let mut clock = CtrlCAt(
-            FakeClock(Duration::ZERO, Vec::new()),
-            Duration::from_secs(1),
-        );
-        let mut out = Vec::new();
-        let mut output = Output {
-            out: &mut out,
-            in_place: false,
-            json: false,
-            width: || None,
-        };
-        let result = run(&early, &mut Link::ready(&mut port), &mut clock, &mut output);
-        let e = result.unwrap_err().to_string();
+        let ran = run_interrupted(&early, &updates(0), Duration::ZERO, false);
+        let e = ran.result.unwrap_err().to_string();
         assert!(
-            e.contains(
-                "(`write 1 drive_reqspeed 10`) failed: stopped by Ctrl-C before this line ran;"
-            ),
+            e.starts_with("stopped by Ctrl-C before line 1 (`write 1 drive_reqspeed 10`) ran;"),
             "{e}"
         );
-        assert_eq!(port.frames_hex().len(), 10, "no write");
+        assert_eq!(ran.hex.len(), 10, "no write");
+        assert!(!ran.text.contains("note:"), "{}", ran.text);
+        let ran = run_interrupted(&early, &updates(0), Duration::from_secs(1), false);
+        assert_eq!(ran.hex.len(), 10, "no write");
         assert_eq!(
-            clock.0 .0,
+            ran.pauses.iter().sum::<Duration>(),
             Duration::from_secs(1),
             "the wait ended at Ctrl-C"
         );
+    }
+
+    #[test]
+    fn ctrl_c_during_a_calibrate_leaves_the_boards_it_stopped_stopped() {
+        // Every board runs; Ctrl-C at 100 ms, while calibrate()'s frames go out (50 ms
+        // apart): they all go, and then no board is released.
+        let mut replies = updates(0);
+        replies.extend(update_replies());
+        replies.extend(std::iter::repeat_n(vec![0], 9 + 30));
+        let ran = run_interrupted(
+            &plan("calibrate\nsay after\n"),
+            &replies,
+            Duration::from_millis(100),
+            false,
+        );
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "stopped by Ctrl-C during line 1 (`calibrate`), the boards it stopped for the \
+                 calibration left stopped{CLOSES}"
+            )
+        );
+        let sent = &ran.hex[10..];
+        assert_eq!(sent[0], "03 13 00", "an update() first");
+        assert_eq!(
+            sent.len(),
+            10 + 9 + 30,
+            "stops and frames, no release: {sent:?}"
+        );
+        assert!(!sent.iter().any(|f| f.ends_with(" 01 00 01")), "{sent:?}");
     }
 
     #[test]
