@@ -32,8 +32,9 @@ import time
 
 # --- Register tables (reference section 2): id -> (bytes, writable, range or None) -------
 
-# The writable column mirrors section 2; the library does not check it (the master drops a
-# write to a read-only register and still answers 00).
+# The writable column mirrors section 2; the library does not check it (the original master
+# dropped a write to a read-only register and still answered 00; this master refuses the
+# whole frame with 89, docs/protocol.md).
 W, R = True, False
 COMMON = [
     (1, W, None),  # 0 RESET
