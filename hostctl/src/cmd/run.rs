@@ -955,9 +955,15 @@ mod tests {
 
     /// Runs `plan` against a fake port answering `replies`.
     fn run_plan(plan: &Plan, replies: &[Vec<u8>], json: bool) -> Ran {
+        // Ctrl-C never comes.
+        run_interrupted(plan, replies, Duration::MAX, json)
+    }
+
+    /// [`run_plan`] with Ctrl-C at `at` on the fake clock.
+    fn run_interrupted(plan: &Plan, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
         let mut port = FakePort::with_replies(replies);
         let mut link = Link::ready(&mut port);
-        let mut clock = FakeClock(Duration::ZERO, Vec::new());
+        let mut clock = CtrlCAt(FakeClock(Duration::ZERO, Vec::new()), at);
         let mut out = Vec::new();
         let mut output = Output {
             out: &mut out,
@@ -969,7 +975,7 @@ mod tests {
         Ran {
             result,
             hex: port.frames_hex(),
-            pauses: clock.1,
+            pauses: clock.0 .1,
             text: String::from_utf8(out).unwrap(),
         }
     }
@@ -1796,27 +1802,6 @@ write 4 reset 2
         }
         fn interrupted_by(&self) -> Option<i32> {
             (self.0.now() >= self.1).then_some(2)
-        }
-    }
-
-    /// Runs `plan` against `replies`, to a file (not in place), with Ctrl-C at `at`.
-    fn run_interrupted(plan: &Plan, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
-        let mut port = FakePort::with_replies(replies);
-        let mut link = Link::ready(&mut port);
-        let mut clock = CtrlCAt(FakeClock(Duration::ZERO, Vec::new()), at);
-        let mut out = Vec::new();
-        let mut output = Output {
-            out: &mut out,
-            in_place: false,
-            json,
-            width: || None,
-        };
-        let result = run(plan, &mut link, &mut clock, &mut output);
-        Ran {
-            result,
-            hex: port.frames_hex(),
-            pauses: clock.0 .1,
-            text: String::from_utf8(out).unwrap(),
         }
     }
 
