@@ -48,8 +48,8 @@ pub enum BannerFailure {
     },
     /// The port reported an error other than a timeout.
     Io(io::ErrorKind),
-    /// Ctrl-C or SIGTERM came meanwhile ([`crate::interrupt`]).
-    Interrupted,
+    /// Ctrl-C or SIGTERM (its number) came meanwhile ([`crate::interrupt`]).
+    Interrupted(i32),
 }
 
 /// Reads lines (LF ends a line, CR is dropped) until one equals `Ready`.
@@ -93,8 +93,8 @@ fn read_line<P: Port + ?Sized>(port: &mut P, lines: usize) -> Result<String, Ban
             }
             // A signal cut the wait short: go on waiting, unless it asks hostctl to stop.
             Err(e) if e.kind() == io::ErrorKind::Interrupted => {
-                if crate::interrupt::requested() {
-                    return Err(BannerFailure::Interrupted);
+                if let Some(signal) = crate::interrupt::caught() {
+                    return Err(BannerFailure::Interrupted(signal));
                 }
             }
             Err(e) => return Err(BannerFailure::Io(e.kind())),

@@ -24,11 +24,6 @@ pub fn caught() -> Option<i32> {
     }
 }
 
-/// Whether a signal has been caught since [`install`].
-pub fn requested() -> bool {
-    caught().is_some()
-}
-
 /// How a message names `signal`.
 pub fn name(signal: i32) -> &'static str {
     #[cfg(unix)]

@@ -82,9 +82,9 @@ impl<P: Port> Link<P> {
         match banner::wait_ready(&mut port) {
             Ok(_) => {}
             Err(BannerFailure::Io(kind)) => return Err(HostError::Io(io::Error::from(kind))),
-            Err(BannerFailure::Interrupted) => {
+            Err(BannerFailure::Interrupted(signal)) => {
                 return Err(HostError::Interrupted {
-                    signal: crate::interrupt::caught().unwrap_or(2),
+                    signal,
                     at: format!(
                         "while waiting for the master's banner, before the script started{}",
                         crate::interrupt::CLOSES

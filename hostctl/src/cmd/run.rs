@@ -120,12 +120,11 @@ pub trait Clock {
     }
 }
 
-/// The error for a script that a signal stopped `at` (e.g. "during line 3 (`wait 30`)"),
+/// The error for a script that `signal` stopped `at` (e.g. "during line 3 (`wait 30`)"),
 /// with the port open.
-fn stopped(clock: &dyn Clock, at: String, line: Option<&Line>) -> HostError {
+fn stopped(signal: i32, at: String, line: Option<&Line>) -> HostError {
     HostError::Interrupted {
-        // SIGINT should the clock no longer say (it always does).
-        signal: clock.interrupted_by().unwrap_or(2),
+        signal,
         at: at + crate::interrupt::CLOSES,
         line: line.map(|l| l.number),
     }
@@ -229,9 +228,9 @@ pub fn run<P: Port>(
             let since_banner = plan.settled + clock.now().saturating_sub(start);
             wait_for_the_watch(since_banner, clock, output)?;
         }
-        if clock.interrupted() {
+        if let Some(signal) = clock.interrupted_by() {
             let at = format!("before {} ran", line_words(line));
-            return Err(stopped(clock, at, Some(line)));
+            return Err(stopped(signal, at, Some(line)));
         }
         // A `say` line speaks for itself; every other line is echoed as it starts.
         if !matches!(line.actions.as_slice(), [Action::Say(_)]) {
@@ -257,9 +256,9 @@ pub fn run<P: Port>(
         })?;
     }
     // A signal during the last line's actions (only a view ends early).
-    if clock.interrupted() {
+    if let Some(signal) = clock.interrupted_by() {
         let at = "after the script's last line ran".to_string();
-        return Err(stopped(clock, at, None));
+        return Err(stopped(signal, at, None));
     }
     ended_in_exception(plan, link, &poller, session)
 }
@@ -700,12 +699,12 @@ fn act<P: Port>(
                 return Ok(());
             }
             // Stopped by a signal: the boards stay stopped until the port closes.
-            if clock.interrupted() {
+            if let Some(signal) = clock.interrupted_by() {
                 let at = format!(
                     "during {}, the boards it stopped for the calibration left stopped",
                     line_words(line)
                 );
-                return Err(stopped(clock, at, Some(line)));
+                return Err(stopped(signal, at, Some(line)));
             }
             let now = poller.update(link)?;
             session.dropped.note(&now, &line.pc);
@@ -767,10 +766,10 @@ fn live<P: Port>(
         session.sent_since_last = false;
         updates += 1;
         // Ctrl-C ends the view as its time would, drawn once more so that a file keeps it.
-        let interrupted = clock.interrupted();
+        let interrupted = clock.interrupted_by();
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
-        let done = elapsed >= time || interrupted;
+        let done = elapsed >= time || interrupted.is_some();
         let draw = if log || output.in_place {
             now >= next_draw || done
         } else {
@@ -800,12 +799,12 @@ fn live<P: Port>(
             output.out.flush().map_err(HostError::Output)?;
             next_draw = now + period;
         }
-        if interrupted {
+        if let Some(signal) = interrupted {
             let at = format!(
                 "during {}; the view above is the rover as it was then",
                 line_words(line)
             );
-            return Err(stopped(clock, at, Some(line)));
+            return Err(stopped(signal, at, Some(line)));
         }
         if done {
             return Ok(());
