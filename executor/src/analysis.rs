@@ -251,10 +251,17 @@ pub const fn lock_mask(masks: &LevelMasks, ceiling: u8, base: u8) -> RegBits {
 }
 
 /// True when a lock with ceiling `ceiling`, taken at priority `base`, must clear the global
-/// flag while it rewrites enable registers: one of them may also be written by a task above
-/// the ceiling (a driver's bits, or a gated source being armed), whose write a preempted
-/// read-modify-write would undo. Registers holding only ungated enable bits are safe: any
-/// task that preempts leaves them as it found them.
+/// flag while it rewrites enable registers, for either of two reasons:
+///
+/// - one of them may also be written by a task above the ceiling (a driver's bits, or a
+///   gated source being armed), whose write a preempted read-modify-write would undo;
+/// - a level it masks has sources in two registers. Between the two writes, the source
+///   not yet masked can fire, and its task's exit enables its whole level again (a task
+///   entered by its own source knows that level was enabled, so it saves nothing for it):
+///   the lock would then run with the first source enabled (`exec_lock_split`).
+///
+/// Otherwise the registers hold only ungated bits of one level each, and any task that
+/// preempts the rewrite leaves them as it found them.
 pub const fn atomic_lock(masks: &LevelMasks, gated: &RegBits, ceiling: u8, base: u8) -> bool {
     let exact = exact_restore(gated);
     let bits = lock_mask(masks, ceiling, base);
@@ -265,7 +272,29 @@ pub const fn atomic_lock(masks: &LevelMasks, gated: &RegBits, ceiling: u8, base:
         }
         r += 1;
     }
+    let mut k = base + 1;
+    while k <= ceiling {
+        if level_registers(masks, k) > 1 {
+            return true;
+        }
+        k += 1;
+    }
     false
+}
+
+/// How many enable registers hold sources of level `k` (`k` ≥ 1).
+const fn level_registers(masks: &LevelMasks, k: u8) -> u8 {
+    let here = masks.level(k);
+    let below = masks.level(k - 1);
+    let mut n = 0;
+    let mut r = 0;
+    while r < REG_COUNT {
+        if here.0[r] & !below.0[r] != 0 {
+            n += 1;
+        }
+        r += 1;
+    }
+    n
 }
 
 /// Checks a declaration: priorities in range, each source bound once, each local
@@ -468,6 +497,41 @@ mod tests {
         let mut gated = pins;
         gated[1].gated = true;
         assert!(atomic_lock(&level_masks(&gated), &gated_bits(&gated), 2, 0));
+    }
+
+    #[test]
+    fn locks_over_a_level_split_across_registers_are_atomic() {
+        // exec_lock_split's layout: level 1 in EIMSK (INT1) and PCICR (PCINT0).
+        let split = [
+            task(Source::INT1, 1, &[]),
+            task(Source::PCINT0, 1, &[]),
+            task(Source::TIMER2_COMPA, 2, &[]),
+        ];
+        let m = level_masks(&split);
+        let g = gated_bits(&split);
+        assert!(atomic_lock(&m, &g, 1, 0));
+        // From level 1 a lock of ceiling 2 masks only level 2, in one register.
+        assert!(!atomic_lock(&m, &g, 2, 1));
+        // Two levels in two registers, one each: each level is cleared by one write.
+        let one_each = [
+            task(Source::INT1, 1, &[]),
+            task(Source::PCINT0, 2, &[]),
+            task(Source::TIMER2_COMPA, 3, &[]),
+        ];
+        let m = level_masks(&one_each);
+        assert!(!atomic_lock(&m, &gated_bits(&one_each), 2, 0));
+        // Both levels of the split layout, from idle.
+        let split_two = [
+            task(Source::INT1, 1, &[]),
+            task(Source::PCINT0, 2, &[]),
+            task(Source::TIMER1_COMPA, 2, &[]),
+            task(Source::TIMER2_COMPA, 3, &[]),
+        ];
+        let m = level_masks(&split_two);
+        let g = gated_bits(&split_two);
+        assert!(atomic_lock(&m, &g, 2, 0));
+        assert!(atomic_lock(&m, &g, 2, 1));
+        assert!(!atomic_lock(&m, &g, 1, 0));
     }
 
     #[test]

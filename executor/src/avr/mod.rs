@@ -89,8 +89,9 @@ pub(crate) unsafe fn lock<A: App, const C: u8, const P: u8, T, R>(
         unsafe { cpu::restore(sreg) };
         r
     } else {
-        // SAFETY: only pure, ungated registers are involved: any task preempting the
-        // read-modify-write leaves them as it found them, so no update is lost.
+        // SAFETY: only pure, ungated registers are involved, each level in one of them:
+        // any task preempting the read-modify-write leaves them as it found them, so no
+        // update is lost, and no level is left half masked for a task to re-enable.
         let fr = unsafe { frame::open::<A, C, P, false>() };
         compiler_fence(Ordering::SeqCst);
         // SAFETY: every user of the resource is masked until the frame ends.
@@ -161,7 +162,9 @@ impl Sleep {
     /// creates after the check always wakes the CPU: no wake-up is lost.
     ///
     /// Called with interrupts disabled (from inside a top-ceiling lock), it returns at once
-    /// without sleeping: sleeping would have to enable interrupts inside the lock.
+    /// without sleeping: sleeping would have to enable interrupts inside the lock. Inside a
+    /// lock of a lower ceiling it sleeps, and only a source above the ceiling can wake it:
+    /// call it outside locks.
     #[inline(always)]
     pub fn sleep_unless(&mut self, busy: impl FnOnce() -> bool) {
         let sreg = cpu::save_cli();
