@@ -55,6 +55,64 @@
 /// rejects inconsistent declarations (a local used twice, a vector bound twice, a priority
 /// out of range) with a compile error. The firmware crate needs `avr-device` as a direct
 /// dependency and `#![feature(abi_avr_interrupt)]`, as for any AVR interrupt handler.
+///
+/// A task's context lives for one run. Its `&mut` to a local resource cannot be kept for
+/// the next run (which gets a new one to the same value), so a task that claims a context
+/// for ever does not compile:
+///
+/// ```compile_fail,E0597
+/// executor::app! {
+///     #[shared]
+///     struct Shared { count: u8 }
+///
+///     #[local]
+///     struct Local { steps: u8 }
+///
+///     #[init]
+///     fn init;
+///
+///     #[task(binds = ADC, priority = 1, local = [steps])]
+///     fn adc;
+/// }
+///
+/// fn init(_cx: init::Context) -> (Shared, Local) {
+///     (Shared { count: 0 }, Local { steps: 0 })
+/// }
+///
+/// fn adc(cx: adc::Context<'static>) {
+///     let kept: &'static mut u8 = cx.local.steps;
+///     *kept += 1;
+/// }
+/// # fn main() {}
+/// ```
+///
+/// The same task with the context's lifetime left to the compiler:
+///
+/// ```
+/// # executor::app! {
+/// #     #[shared]
+/// #     struct Shared { count: u8 }
+/// #
+/// #     #[local]
+/// #     struct Local { steps: u8 }
+/// #
+/// #     #[init]
+/// #     fn init;
+/// #
+/// #     #[task(binds = ADC, priority = 1, local = [steps])]
+/// #     fn adc;
+/// # }
+/// #
+/// # fn init(_cx: init::Context) -> (Shared, Local) {
+/// #     (Shared { count: 0 }, Local { steps: 0 })
+/// # }
+/// #
+/// fn adc(cx: adc::Context) {
+///     let this_run: &mut u8 = cx.local.steps;
+///     *this_run += 1;
+/// }
+/// # fn main() {}
+/// ```
 #[macro_export]
 macro_rules! app {
     (
@@ -236,7 +294,22 @@ macro_rules! app {
                 [$($($tclocal : $tclty = $tclinit),*)?],
                 {},
                 {},
-                { $crate::__exec_gate_fns!($vector $(, $gated)?); }
+                {
+                    $crate::__exec_gate_fns!($vector $(, $gated)?);
+
+                    /// Runs the task once, with a context that lives for this run only.
+                    ///
+                    /// # Safety
+                    /// Called only by the task's vector (or a host test standing in for
+                    /// it), after the resources were stored, one run at a time.
+                    #[doc(hidden)]
+                    #[inline(always)]
+                    pub unsafe fn __run() {
+                        let run = ();
+                        // SAFETY: per this function's contract.
+                        super::$task(unsafe { Context::new(&run) })
+                    }
+                }
             );
 
             #[cfg(target_arch = "avr")]
@@ -244,11 +317,7 @@ macro_rules! app {
             fn $vector() {
                 // SAFETY: this is the vector of the source bound to the task, entered with
                 // interrupts disabled; the context is created once for this run.
-                unsafe {
-                    $crate::__private::dispatch::<__ExecApp, { $task::PRIORITY }>(|| {
-                        $task($task::Context::new())
-                    })
-                }
+                unsafe { $crate::__private::dispatch::<__ExecApp, { $task::PRIORITY }>(|| $task::__run()) }
             }
         )*
 
@@ -409,14 +478,17 @@ macro_rules! __exec_context {
                 $($extra_field)*
             }
 
-            impl Context<'_> {
+            impl<'a> Context<'a> {
                 /// Created by the generated vector (or `main` for idle), once per run.
+                /// Its lifetime is that of `_run`, a local of the caller: a task's
+                /// context (and every `&mut` it hands out) cannot outlive the run, so
+                /// a task declared with `Context<'static>` does not compile.
                 ///
                 /// # Safety
                 /// Called only there, after the resources were stored.
                 #[doc(hidden)]
                 #[inline(always)]
-                pub unsafe fn new() -> Self {
+                pub unsafe fn new(_run: &'a ()) -> Self {
                     Context {
                         shared: SharedResources {
                             $(
@@ -467,7 +539,10 @@ macro_rules! __exec_run_idle {
         unsafe { $crate::__private::default_idle() }
     };
     ($idle:ident) => {
-        // SAFETY: idle's only context, created after start.
-        $idle(unsafe { $idle::Context::new() })
+        {
+            let run = ();
+            // SAFETY: idle's only context, created after start.
+            $idle(unsafe { $idle::Context::new(&run) })
+        }
     };
 }

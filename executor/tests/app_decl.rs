@@ -144,13 +144,13 @@ fn contexts_reach_the_declared_resources() {
     }
     // SAFETY: what the generated `main` does, on one thread, before any context exists.
     unsafe { __EXEC_RESOURCES.write(init(init::Context::new())) };
-    // SAFETY: one context at a time, as the vectors would create them.
+    // SAFETY: one run at a time, as the vectors run them.
     unsafe {
-        adc(adc::Context::new());
-        twi(twi::Context::new());
-        udre(udre::Context::new());
-        encoder(encoder::Context::new());
-        adc(adc::Context::new());
+        adc::__run();
+        twi::__run();
+        udre::__run();
+        encoder::__run();
+        adc::__run();
     }
     // SAFETY: no context is alive any more.
     let (shared, local) = unsafe { &*__EXEC_RESOURCES.as_mut_ptr() };
