@@ -18,7 +18,6 @@ pub mod pin;
 pub mod pwm;
 pub mod rc_pins;
 pub mod runtime;
-pub mod sleep;
 pub mod stack;
 pub mod tick;
 pub mod timebase;
