@@ -538,11 +538,9 @@ macro_rules! __exec_run_idle {
         // SAFETY: this is `main` running idle, after start.
         unsafe { $crate::__private::default_idle() }
     };
-    ($idle:ident) => {
-        {
-            let run = ();
-            // SAFETY: idle's only context, created after start.
-            $idle(unsafe { $idle::Context::new(&run) })
-        }
-    };
+    ($idle:ident) => {{
+        let run = ();
+        // SAFETY: idle's only context, created after start.
+        $idle(unsafe { $idle::Context::new(&run) })
+    }};
 }
