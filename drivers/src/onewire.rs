@@ -1,7 +1,8 @@
 //! A OneWire bus master on D6 (PD6), bit-banged as an open drain: the pin's PORT bit is
 //! 0, so setting its DDR bit pulls the line low and clearing it lets the external pull-up
-//! (or a sensor) decide the level. The one exception is [`OneWire::power`], which drives
-//! the line high to feed a parasite-powered conversion until the next reset.
+//! (or a sensor) decide the level. The one exception is [`OneWire::write_byte_powered`],
+//! whose last slot ends by driving the line high to feed a parasite-powered conversion
+//! until the next reset.
 //!
 //! This is all the master's temperature sensors need: reset/presence, and read and write
 //! time slots, one bit or one byte at a time. What to send, and what the bits mean, is
@@ -16,18 +17,22 @@
 //!
 //! | Step | Line low | Then | Interrupts off |
 //! |---|---|---|---|
-//! | reset | 500 µs | release, sample presence at 70 µs, wait 430 µs | never |
+//! | reset | 500 µs | release, watch for presence from 15 to ~300 µs, then ~230 µs | never |
 //! | write 1 | 6 µs | release, 64 µs recovery | the 6 µs low |
 //! | write 0 | 62 µs | release, 8 µs recovery | never |
 //! | read | 2 µs | release, sample at ~12 µs, 55 µs recovery | low to sample (~13 µs) |
-//! | power | – | line driven high until the next reset | – |
+//! | powered last slot | 6 or 62 µs | driven high until the next reset | the 6 µs low |
 //!
 //! The datasheet windows, with the room each leaves: reset ≥ 480 µs (no upper bound
 //! that matters); a presence pulse starts 15-60 µs after the release and lasts 60-240
-//! µs, so the line is low for certain from 60 to 120 µs and the 70-µs sample may come
-//! up to 50 µs late; write-0 low 60-120 µs (up to 58 µs late); write-1 low 1-15 µs and
-//! a read sample within 15 µs of the falling edge (no room: interrupts off); slots at
-//! least 60 µs apart (recovery may stretch freely).
+//! µs, so the line is low for certain only from 60 to 75 µs: a single sample there
+//! would miss a fast sensor whenever a handler ran first, so the line is read
+//! continuously from 15 µs (before any sensor pulls) until well past 75 µs, and a
+//! handler can only stretch that watch; write-0 low 60-120 µs (up to 58 µs late);
+//! write-1 low 1-15 µs and a read sample within 15 µs of the falling edge (no room:
+//! interrupts off); slots at least 60 µs apart (recovery may stretch freely); the
+//! strong pull-up of a parasite-powered conversion within 10 µs of CONVERT T's last
+//! slot (it follows the slot's low time directly, no release between).
 
 use core::arch::asm;
 
@@ -67,37 +72,37 @@ impl OneWire {
         pull_low();
         delay_us::<500>();
         release();
-        delay_us::<70>();
-        let present = !line_high();
-        delay_us::<430>();
+        delay_us::<15>();
+        // 120 reads ~2.4 µs apart: ~290 µs of watching, which a handler only lengthens.
+        let mut present = false;
+        for _ in 0..120u8 {
+            present |= !line_high();
+            delay_us::<2>();
+        }
+        delay_us::<230>();
         present
     }
 
-    /// Drives the line high (a strong pull-up) so that parasite-powered sensors can
-    /// convert, until the next [`OneWire::reset`]. Call it right after CONVERT T.
-    pub fn power(&mut self) {
-        // SAFETY: sbi on PD6's own PORT bit, then its DDR bit: the pin goes from released
-        // to driven high without passing through low.
-        unsafe {
-            asm!("sbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack));
-            asm!("sbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack));
-        }
+    /// Writes one bit in one time slot.
+    pub fn write_bit(&mut self, bit: bool) {
+        self.slot(bit, false);
     }
 
-    /// Writes one bit in one time slot.
+    /// One write slot, which ends by releasing the line or, with `power`, by driving it
+    /// high from low with no released moment between (the strong pull-up).
     #[inline(never)]
-    pub fn write_bit(&mut self, bit: bool) {
+    fn slot(&mut self, bit: bool, power: bool) {
         if bit {
             avr_device::interrupt::free(|_| {
                 pull_low();
                 delay_us::<6>();
-                release();
+                end_slot(power);
             });
             delay_us::<64>();
         } else {
             pull_low();
             delay_us::<62>();
-            release();
+            end_slot(power);
             delay_us::<8>();
         }
     }
@@ -117,20 +122,33 @@ impl OneWire {
     }
 
     /// Writes a byte, least significant bit first.
-    #[inline(never)]
     pub fn write_byte(&mut self, byte: u8) {
-        for i in 0..8 {
-            self.write_bit(byte & (1 << i) != 0);
+        self.write(byte, false);
+    }
+
+    /// Writes a byte like [`OneWire::write_byte`], but its last slot ends by driving the
+    /// line high (a strong pull-up) instead of releasing it, so that parasite-powered
+    /// sensors can carry out the command (CONVERT T) until the next [`OneWire::reset`].
+    pub fn write_byte_powered(&mut self, byte: u8) {
+        self.write(byte, true);
+    }
+
+    #[inline(never)]
+    fn write(&mut self, mut byte: u8, power: bool) {
+        for i in 0..8u8 {
+            self.slot(byte & 1 != 0, power && i == 7);
+            byte >>= 1;
         }
     }
 
     /// Reads a byte, least significant bit first.
     #[inline(never)]
     pub fn read_byte(&mut self) -> u8 {
-        let mut byte = 0;
-        for i in 0..8 {
+        let mut byte = 0u8;
+        for _ in 0..8u8 {
+            byte >>= 1;
             if self.read_bit() {
-                byte |= 1 << i;
+                byte |= 0x80;
             }
         }
         byte
@@ -142,6 +160,19 @@ impl OneWire {
 fn pull_low() {
     // SAFETY: one atomic sbi on PD6's DDR bit, owned by the `OneWire` that calls this.
     unsafe { asm!("sbi {ddr}, {bit}", ddr = const DDRD, bit = const BIT, options(nostack)) }
+}
+
+/// Ends a write slot: releases the line, or with `power` drives it high from low (PORT
+/// bit set while PD6 is an output), a strong pull-up with no released moment in between.
+/// [`OneWire::reset`] clears the PORT bit again.
+#[inline(always)]
+fn end_slot(power: bool) {
+    if power {
+        // SAFETY: one atomic sbi on PD6's PORT bit, owned by the `OneWire` that calls this.
+        unsafe { asm!("sbi {port}, {bit}", port = const PORTD, bit = const BIT, options(nostack)) }
+    } else {
+        release();
+    }
 }
 
 /// Lets the line go (PD6 an input).

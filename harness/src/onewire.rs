@@ -10,7 +10,8 @@
 //!
 //! # Timing
 //! - A low pulse of at least 480 µs is a **reset**. Every present sensor answers 30 µs
-//!   after the release with a 120-µs **presence** pulse (datasheet: 15–60 µs, 60–240 µs).
+//!   after the release with a 120-µs **presence** pulse (datasheet: 15–60 µs, 60–240 µs;
+//!   [`OneWireBus::set_presence_us`] sets others).
 //! - A shorter low pulse is a **time slot**. Sensors sample the line 30 µs after the
 //!   falling edge (datasheet: 15–60 µs): a low pulse under 30 µs writes a 1, a longer one
 //!   a 0.
@@ -24,10 +25,17 @@
 //! ROM commands SEARCH ROM (0xf0, any number of sensors), MATCH ROM (0x55), SKIP ROM
 //! (0xcc) and READ ROM (0x33); function commands CONVERT T (0x44: read slots return 0
 //! while converting, 1 when done; 750 ms by default) and READ SCRATCHPAD (0xbe: 9 bytes,
-//! CRC last, then 1s). Other commands leave the sensors idle until the next reset. Power
-//! is not modelled: a conversion needs no strong pull-up. A sensor's scratchpad holds
-//! 85 °C until its first conversion, as a real one does. A chip reset drops the
-//! transaction under way; conversions go on.
+//! CRC last, then 1s). Other commands leave the sensors idle until the next reset. A
+//! sensor's scratchpad holds 85 °C until its first conversion, as a real one does. A
+//! chip reset drops the transaction under way; conversions go on.
+//!
+//! # Power
+//! Parasite-powered sensors ([`OneWireBus::set_parasite_power`], the rover's) need the
+//! master to drive the line high within 10 µs of the end of CONVERT T's last slot and to
+//! hold it until the conversion is done (datasheet). A pull-up that comes late, ends
+//! early (a slot, a reset, the chip's own reset) or never comes browns the converting
+//! sensors out: their scratchpads fall back to 85 °C, and a [`TimingViolation`] says
+//! which rule broke.
 //!
 //! # Example
 //! ```no_run
@@ -119,12 +127,16 @@ impl Model {
     }
 
     /// The master drives DDR and PORT: it pulls the line low when the pin is an output
-    /// at 0.
+    /// at 0, and drives it high (a strong pull-up) when the pin is an output at 1.
     fn master_drive(&self, ddr: u8, port: u8) {
-        let low = ddr & self.mask != 0 && port & self.mask == 0;
+        let output = ddr & self.mask != 0;
+        let low = output && port & self.mask == 0;
+        let high = output && port & self.mask != 0;
         let now = self.now();
         if let Ok(mut wire) = self.wire.try_borrow_mut() {
+            // A slot that ends by driving the line high ends first, then powers it.
             wire.master(low, now);
+            wire.drive_high(high, now);
         }
     }
 
@@ -178,8 +190,9 @@ impl hook::Device for Model {
                 unsafe { (*irq).value = 0 };
             }
         }
+        let now = self.now();
         if let Ok(mut wire) = self.wire.try_borrow_mut() {
-            wire.chip_reset();
+            wire.chip_reset(now);
         }
     }
 
@@ -243,7 +256,8 @@ impl OneWireBus {
     }
 
     /// Attaches the rover's ten sensors ([`ROVER_SENSOR_ROMS`], index 0 ambient, n for
-    /// controller n) to the master's D6, all at 20.0 °C.
+    /// controller n) to the master's D6, all at 20.0 °C and parasite-powered, as on the
+    /// rover (reference §9.1): a conversion needs the strong pull-up.
     pub fn attach_rover_sensors(avr: &mut Avr) -> OneWireBus {
         let bus = match OneWireBus::attach(avr, MASTER_ONEWIRE_PIN) {
             Ok(bus) => bus,
@@ -253,7 +267,17 @@ impl OneWireBus {
         for rom in ROVER_SENSOR_ROMS {
             bus.add_sensor(rom, DEFAULT_HALF_DEGREES);
         }
+        bus.set_parasite_power(true);
         bus
+    }
+
+    /// Makes the sensors parasite-powered (`true`: each conversion needs the master to
+    /// drive the line high within 10 µs of CONVERT T and hold it until the conversion is
+    /// done; otherwise the sensors converting reset to 85 °C and a [`TimingViolation`]
+    /// is recorded) or externally powered (`false`, the default of [`OneWireBus::attach`]:
+    /// the master may poll read slots while they convert).
+    pub fn set_parasite_power(&self, parasite: bool) {
+        self.model.wire.borrow_mut().set_parasite(parasite);
     }
 
     /// Adds a DS18S20 with ROM `rom` that measures `half_degrees` (0.5 °C units); returns
@@ -304,6 +328,16 @@ impl OneWireBus {
     pub fn set_present(&self, index: usize, present: bool) {
         let ok = self.model.wire.borrow_mut().set_present(index, present);
         assert!(ok, "no OneWire sensor {index}");
+    }
+
+    /// Sets when the presence pulse starts after a reset's release and how long it lasts
+    /// (default 30 µs and 120 µs; the datasheet allows 15–60 µs and 60–240 µs).
+    pub fn set_presence_us(&self, wait_us: u64, length_us: u64) {
+        let us = crate::F_CPU / 1_000_000;
+        self.model
+            .wire
+            .borrow_mut()
+            .set_presence(wait_us.saturating_mul(us), length_us.saturating_mul(us));
     }
 
     /// Sets how long a conversion takes (default 750 ms).

@@ -15,23 +15,27 @@ const WRITE1_MAX: u64 = 15 * CYCLES_PER_US;
 const WRITE0_MIN: u64 = 60 * CYCLES_PER_US;
 /// Longest slot low time of the datasheet.
 const SLOT_MAX: u64 = 120 * CYCLES_PER_US;
-/// Delay from the end of a reset to the presence pulse.
+/// Delay from the end of a reset to the presence pulse, by default.
 const PRESENCE_WAIT: u64 = 30 * CYCLES_PER_US;
-/// Length of the presence pulse.
+/// Length of the presence pulse, by default.
 const PRESENCE: u64 = 120 * CYCLES_PER_US;
 /// How long a device holds the line low to send a 0.
 const READ_HOLD: u64 = 30 * CYCLES_PER_US;
+/// Longest wait from the end of CONVERT T to the strong pull-up (parasite power).
+const PULLUP_MAX: u64 = 10 * CYCLES_PER_US;
 /// The datasheet's maximum conversion time, the default here: 750 ms.
 pub const DEFAULT_CONVERSION_US: u64 = 750_000;
 /// Temperature the scratchpad holds at power-up, before any conversion: 85 °C.
 pub const POWER_ON_HALF_DEGREES: i16 = 170;
 
-/// A slot or pulse outside the datasheet's timing.
+/// A slot, pulse or conversion outside the datasheet's timing.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TimingViolation {
-    /// When the master released the line, µs since the chip was loaded.
+    /// When it was seen (the master released the line, or the conversion lost its
+    /// power), µs since the chip was loaded.
     pub at_us: u64,
-    /// How long the master held the line low, µs.
+    /// How long the master held the line low, µs; for a conversion's power, how long
+    /// after CONVERT T the strong pull-up came or ended.
     pub low_us: u64,
     /// Which rule it broke.
     pub what: &'static str,
@@ -123,11 +127,30 @@ impl Phase {
     }
 }
 
+/// A parasite-powered conversion's supply: the master must drive the line high within
+/// 10 µs of CONVERT T and hold it there until the conversion is done.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Power {
+    /// No conversion needs it.
+    Idle,
+    /// CONVERT T ended at `since`; the conversion runs until `until`.
+    Due { since: u64, until: u64 },
+    /// Driven high since `since` (cycles after CONVERT T: `late`), until `until`.
+    Held { since: u64, until: u64 },
+}
+
 /// The line and the devices on it.
 #[derive(Debug, Clone)]
 pub(crate) struct Wire {
     sensors: Vec<Sensor>,
     conversion_cycles: u64,
+    /// The presence pulse: (delay after the reset's release, length), cycles.
+    presence: (u64, u64),
+    /// Whether the devices draw their power from the line (the rover's sensors do).
+    parasite: bool,
+    power: Power,
+    /// The master drives the line high (a strong pull-up) since this cycle.
+    master_high_since: Option<u64>,
     /// The master has pulled the line low since this cycle.
     master_low_since: Option<u64>,
     /// A device pulls the line low over [start, end).
@@ -143,6 +166,10 @@ impl Wire {
         Wire {
             sensors: Vec::new(),
             conversion_cycles: DEFAULT_CONVERSION_US * CYCLES_PER_US,
+            presence: (PRESENCE_WAIT, PRESENCE),
+            parasite: false,
+            power: Power::Idle,
+            master_high_since: None,
             master_low_since: None,
             hold: None,
             phase: Phase::Idle,
@@ -201,6 +228,16 @@ impl Wire {
         self.conversion_cycles = cycles;
     }
 
+    /// Sets the presence pulse's delay after a reset and its length, cycles.
+    pub fn set_presence(&mut self, wait: u64, length: u64) {
+        self.presence = (wait, length);
+    }
+
+    /// Makes the devices parasite-powered (`true`) or externally powered.
+    pub fn set_parasite(&mut self, parasite: bool) {
+        self.parasite = parasite;
+    }
+
     /// Device `i`'s scratchpad at cycle `now`.
     pub fn scratchpad(&mut self, i: usize, now: u64) -> Option<[u8; 9]> {
         self.settle(now);
@@ -215,9 +252,10 @@ impl Wire {
         &self.violations
     }
 
-    /// The chip was reset: its pin is an input again and the transaction is lost.
-    /// Conversions under way go on.
-    pub fn chip_reset(&mut self) {
+    /// The chip was reset at cycle `now`: its pin is an input again and the transaction
+    /// is lost. Conversions under way go on, but a parasite-powered conversion under way loses its strong pull-up.
+    pub fn chip_reset(&mut self, now: u64) {
+        self.drive_high(false, now);
         self.master_low_since = None;
         self.hold = None;
         self.phase = Phase::Idle;
@@ -233,6 +271,7 @@ impl Wire {
     pub fn master(&mut self, low: bool, now: u64) {
         match (self.master_low_since, low) {
             (None, true) => {
+                self.settle(now);
                 self.master_low_since = Some(now);
                 self.slot_start(now);
             }
@@ -244,8 +283,64 @@ impl Wire {
         }
     }
 
-    /// Applies conversions that have finished by `now`.
+    /// The master drives the line high (`high`: DDR and PORT set, a strong pull-up) or
+    /// stops, at cycle `now`.
+    pub fn drive_high(&mut self, high: bool, now: u64) {
+        match (self.master_high_since, high) {
+            (None, true) => {
+                self.master_high_since = Some(now);
+                if let Power::Due { since, until } = self.power {
+                    if now - since > PULLUP_MAX {
+                        self.brown_out(
+                            now - since,
+                            now,
+                            "strong pull-up more than 10 µs after CONVERT T",
+                        );
+                    } else {
+                        self.power = Power::Held { since, until };
+                    }
+                }
+                self.settle(now);
+            }
+            (Some(_), false) => {
+                self.master_high_since = None;
+                self.settle(now);
+                if let Power::Held { since, .. } = self.power {
+                    self.brown_out(
+                        now - since,
+                        now,
+                        "strong pull-up ended before the conversion was done",
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// A parasite-powered conversion lost its supply: the devices converting reset, so
+    /// their scratchpads hold the power-up 85 °C.
+    fn brown_out(&mut self, after: u64, now: u64, what: &'static str) {
+        self.violation(after, now, what);
+        self.power = Power::Idle;
+        for s in self.sensors.iter_mut().filter(|s| s.pending.is_some()) {
+            s.pending = None;
+            s.scratchpad = scratchpad(POWER_ON_HALF_DEGREES);
+        }
+    }
+
+    /// Applies conversions that have finished by `now`, and checks their power.
     fn settle(&mut self, now: u64) {
+        match self.power {
+            Power::Due { since, .. } if now - since > PULLUP_MAX => {
+                self.brown_out(
+                    now - since,
+                    now,
+                    "no strong pull-up within 10 µs of CONVERT T",
+                );
+            }
+            Power::Held { until, .. } if now >= until => self.power = Power::Idle,
+            _ => {}
+        }
         for s in &mut self.sensors {
             if let Some((until, half)) = s.pending {
                 if now >= until {
@@ -333,7 +428,8 @@ impl Wire {
         }
         if any {
             self.stats.presence_pulses += 1;
-            self.hold = Some((now + PRESENCE_WAIT, now + PRESENCE_WAIT + PRESENCE));
+            let (wait, length) = self.presence;
+            self.hold = Some((now + wait, now + wait + length));
             self.phase = Phase::Rom { bits: 0, byte: 0 };
         } else {
             self.phase = Phase::Idle;
@@ -431,6 +527,9 @@ impl Wire {
                 for s in self.sensors.iter_mut().filter(|s| s.present && s.selected) {
                     s.pending = Some((until, s.half));
                     self.stats.conversions += 1;
+                }
+                if self.parasite {
+                    self.power = Power::Due { since: now, until };
                 }
                 Phase::Converting
             }
@@ -566,6 +665,91 @@ mod tests {
         assert_eq!(m.wire.stats().conversions, 10);
         assert_eq!(m.wire.stats().scratchpad_reads, 2);
         assert!(m.wire.violations().is_empty(), "{:?}", m.wire.violations());
+    }
+
+    /// SKIP ROM, CONVERT T on a parasite-powered rover wire, with the strong pull-up
+    /// `gap_us` after the last slot's release (None: the last slot ends driving high).
+    fn parasite_convert(gap_us: Option<u64>) -> Master {
+        let mut w = rover_wire();
+        w.set_parasite(true);
+        let mut m = Master::new(w);
+        assert!(m.reset());
+        m.write_byte(0xcc);
+        for i in 0..7 {
+            m.write_bit(0x44 & (1 << i) != 0);
+        }
+        // The last bit, a 0: 60 µs low, then either released or driven high at once.
+        m.wire.master(true, m.now);
+        m.now += 60 * US;
+        match gap_us {
+            None => {
+                m.wire.master(false, m.now);
+                m.wire.drive_high(true, m.now);
+            }
+            Some(gap) => {
+                m.wire.master(false, m.now);
+                m.now += gap * US;
+                m.wire.drive_high(true, m.now);
+            }
+        }
+        m
+    }
+
+    fn reading(m: &mut Master, sensor: usize) -> [u8; 2] {
+        let pad = m.wire.scratchpad(sensor, m.now).unwrap_or_default();
+        [pad[0], pad[1]]
+    }
+
+    #[test]
+    fn a_parasite_conversion_powered_at_once_measures() {
+        let mut m = parasite_convert(None);
+        m.now += 750_000 * US;
+        m.wire.drive_high(false, m.now);
+        assert_eq!(reading(&mut m, 5), [45, 0]);
+        assert!(m.wire.violations().is_empty(), "{:?}", m.wire.violations());
+        // 10 µs late is still in time.
+        let mut m = parasite_convert(Some(10));
+        m.now += 750_000 * US;
+        assert_eq!(reading(&mut m, 5), [45, 0]);
+        assert!(m.wire.violations().is_empty(), "{:?}", m.wire.violations());
+    }
+
+    #[test]
+    fn a_parasite_conversion_powered_late_browns_out_to_85_degrees() {
+        let mut m = parasite_convert(Some(11));
+        m.now += 750_000 * US;
+        assert_eq!(reading(&mut m, 5), [0xaa, 0x00]);
+        let v = m.wire.violations();
+        assert_eq!(v.len(), 1, "{v:?}");
+        assert_eq!(v[0].low_us, 11);
+        assert_eq!(v[0].what, "strong pull-up more than 10 µs after CONVERT T");
+    }
+
+    #[test]
+    fn a_parasite_conversion_without_its_pull_up_to_the_end_browns_out() {
+        // Released after 500 ms of the 750.
+        let mut m = parasite_convert(None);
+        m.now += 500_000 * US;
+        m.wire.drive_high(false, m.now);
+        m.now += 250_000 * US;
+        assert_eq!(reading(&mut m, 5), [0xaa, 0x00]);
+        assert_eq!(
+            m.wire.violations()[0].what,
+            "strong pull-up ended before the conversion was done"
+        );
+        // Never powered: seen at the next look at the line.
+        let mut w = rover_wire();
+        w.set_parasite(true);
+        let mut m = Master::new(w);
+        assert!(m.reset());
+        m.write_byte(0xcc);
+        m.write_byte(0x44);
+        m.now += 750_000 * US;
+        assert_eq!(reading(&mut m, 2), [0xaa, 0x00]);
+        assert_eq!(
+            m.wire.violations()[0].what,
+            "no strong pull-up within 10 µs of CONVERT T"
+        );
     }
 
     #[test]

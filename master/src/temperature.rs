@@ -182,9 +182,9 @@ impl Temperatures {
     }
 }
 
-/// CONVERT T on the addressed sensor, then the line held high to power it (parasite
-/// power) until the next reset.
+/// CONVERT T on the addressed sensor, its last slot ending with the line driven high to
+/// power the conversion (parasite power, within the datasheet's 10 µs) until the next
+/// reset.
 fn start_conversion(wire: &mut OneWire) {
-    wire.write_byte(command::CONVERT_T);
-    wire.power();
+    wire.write_byte_powered(command::CONVERT_T);
 }

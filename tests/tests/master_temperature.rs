@@ -65,6 +65,43 @@ fn set_2_holds_every_sensor_after_2_d_seconds() {
 }
 
 #[test]
+fn the_fastest_sensors_are_all_found_while_serial_bytes_interrupt_the_search() {
+    // A presence pulse may start 15 µs after the reset and last 60 µs: low for certain
+    // only from 60 to 75 µs. A byte every ~95 µs runs the receive handler throughout the
+    // boot's search, so a single sample at 70 µs would often come too late.
+    let mut avr = Avr::firmware("master").unwrap();
+    let sensors = OneWireBus::attach_rover_sensors(&mut avr);
+    sensors.set_presence_us(15, 60);
+    avr.uart_send(&[0xff; 4000]);
+    avr.uart_read_until(b"Ready\r\n", 2_000_000).unwrap();
+    let resets = sensors.stats().resets;
+    assert!(
+        resets >= 11,
+        "ten search passes and the last one's end: {resets}"
+    );
+    // Let the line go quiet, so that the master takes the next byte as a frame's length.
+    avr.uart_discard_input();
+    avr.run_us(100_000);
+    avr.uart_take();
+    // Every sensor was found: each tick reads one, none is missing (no type 10), and
+    // after 2·D s all ten are marked read.
+    avr.uart_send(&[0x04, 0x04, 0x03, 14]);
+    assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [1]);
+    avr.run_us(24_000_000);
+    avr.uart_send(&[0x03, 0x03, 0x03]);
+    assert_eq!(
+        avr.uart_read_exact(2, 100_000).unwrap(),
+        [0xff, 0x03],
+        "all ten sensors found and read"
+    );
+    assert!(
+        sensors.violations().is_empty(),
+        "{:?}",
+        sensors.violations()
+    );
+}
+
+#[test]
 fn a_missing_sensor_raises_type_10_and_spreads_it_to_all_nine() {
     // Controller 1's sensor is off the bus: the first tick (at 5 s) reads the ambient
     // sensor and needs sensor 1 for its conversion.
