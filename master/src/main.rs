@@ -240,7 +240,7 @@ fn one_piece_of_work(
     wire: &mut OneWire,
     leds: &mut Leds,
 ) -> bool {
-    for _ in 0..3 {
+    for _ in 0..3u8 {
         // The next of 0, 1, 2 (a comparison, where `% 3` would call a division).
         *turn = if *turn >= 2 { 0 } else { *turn + 1 };
         let worked = match *turn {

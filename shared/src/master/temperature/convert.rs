@@ -29,7 +29,8 @@ pub fn crc8(bytes: &[u8]) -> u8 {
     for &byte in bytes {
         // The byte's bits enter at bit 0 one per shift, so it can be mixed in whole.
         crc ^= byte;
-        for _ in 0..8 {
+        // A u8 counter: an untyped range would count in i32, four registers on the AVR.
+        for _ in 0..8u8 {
             let mix = crc & 1;
             crc >>= 1;
             if mix != 0 {
