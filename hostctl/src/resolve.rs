@@ -309,6 +309,16 @@ pub fn arrives_as(reg: &Register, raw: u16) -> String {
     }
 }
 
+/// For `write`: what the board makes of `raw`, in words: `arrives as 999.908 ticks/s`,
+/// or for a drive mode other than 0 and 1, that the board keeps it and acts as mode 0
+/// (it reads back as written).
+pub fn write_effect(reg: &Register, raw: u16) -> String {
+    match slave_use(reg) {
+        SlaveUse::DriveMode if raw > 1 => format!("kept as {raw}, which acts as mode 0"),
+        _ => format!("arrives as {}{}", arrives_as(reg, raw), unit_suffix(reg)),
+    }
+}
+
 /// For `read`: what a board does with a register it does not use as its value, or
 /// `None` where it does. A threshold's register also differs from the board's own value
 /// from boot until its first write (reference §8.1: DRIVE_OVERCURRENTTHRESH reads 299.997
@@ -728,6 +738,8 @@ mod tests {
         assert_eq!(arrives_as(mode, 1), "1");
         assert_eq!(arrives_as(mode, 0), "0");
         assert_eq!(arrives_as(mode, 5), "0");
+        assert_eq!(write_effect(mode, 1), "arrives as 1 mode");
+        assert_eq!(write_effect(mode, 7), "kept as 7, which acts as mode 0");
         assert_eq!(applied(mode, 5), 0.0);
         // Other registers keep their mapped value.
         let cap = register(ds(), "DRIVE_INTEGRALCAP").unwrap();

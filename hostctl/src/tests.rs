@@ -290,7 +290,7 @@ fn write_says_what_the_board_uses_for_truncated_registers() {
     );
     assert_eq!(
         printed("write 1 drive_mode 5", &WRITTEN_RUNNING),
-        "device 1 REGDS_DRIVE_MODE = 5 mode (raw 0x05, arrives as 0 mode)\n"
+        "device 1 REGDS_DRIVE_MODE = 5 mode (raw 0x05, kept as 5, which acts as mode 0)\n"
     );
     assert_eq!(
         printed("write 1 drive_mode 1", &WRITTEN_RUNNING),
@@ -923,7 +923,7 @@ fn watch_polls_a_set_of_its_own_on_several_boards() {
     assert_eq!(
         legend,
         [
-            "EXCEPTIONDATA 264 = 0x0108: short (overcurrent at low duty), motor 1 (wheel 3's steer)",
+            "EXCEPTIONDATA 264 = 0x0108: short (overcurrent at a duty of 250 or less: a short, or a blocked motor), motor 1 (wheel 3's steer)",
             "STATUS 9 = 0x0009: DS board, in exception (its motors are stopped)"
         ]
     );

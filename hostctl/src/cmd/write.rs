@@ -109,14 +109,13 @@ fn report(plan: &Plan, json: bool, exception: Option<Result<bool, HostError>>) -
         return object.finish();
     }
     let mut text = format!(
-        "device {} {} = {}{} (raw 0x{:0width$x}, arrives as {}{})",
+        "device {} {} = {}{} (raw 0x{:0width$x}, {})",
         plan.target.device,
         plan.reg.name,
         plan.value,
         resolve::unit_suffix(plan.reg),
         plan.raw,
-        resolve::arrives_as(plan.reg, plan.raw),
-        resolve::unit_suffix(plan.reg),
+        resolve::write_effect(plan.reg, plan.raw),
         width = usize::from(plan.reg.size) * 2,
     );
     match exception {
