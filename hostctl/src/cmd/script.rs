@@ -480,7 +480,7 @@ fn wheels(word: &str, pairs: Pairs, usage: &'static str) -> Result<Vec<u8>, Why>
 }
 
 fn seconds(word: &str, usage: &'static str) -> Result<Duration, Why> {
-    let s = f64::from(number(word)?);
+    let s = f64::from(number(word).map_err(|_| Why::Usage(usage))?);
     if !(0.0..=MAX_SECONDS).contains(&s) {
         return Err(Why::Usage(usage));
     }
@@ -600,7 +600,12 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
             time: seconds(s, "watch SECONDS   (0..3600)")?,
             log: true,
         }]),
-        ["wait" | "watch", ..] => Err(Why::Usage("wait|watch SECONDS")),
+        ["wait" | "watch", ..] => Err(Why::Usage("wait|watch SECONDS   (0..3600)")),
+        ["reset" | "calibrate" | "stop", ..] => Err(Why::Text(format!(
+            "`{}` takes no argument: it acts on every fitted board (to reset one board, \
+             `write DEV reset 1`)",
+            words[0]
+        ))),
         ["say", ..] => Ok(vec![Action::Say(
             text.split_once(char::is_whitespace)
                 .map_or("", |(_, said)| said.trim())
@@ -909,6 +914,17 @@ mod tests {
         // The PC-silence failsafe is armed from a script like any master register.
         assert!(parse("s", "write 0 pctimeout 500").is_ok());
         assert!(refusal("wait -1").contains("usage: wait SECONDS"));
+        assert_eq!(
+            refusal("wait abc"),
+            "demo.rover line 1 (`wait abc`): usage: wait SECONDS   (0..3600)"
+        );
+        assert_eq!(
+            refusal("reset 1"),
+            "demo.rover line 1 (`reset 1`): `reset` takes no argument: it acts on every \
+             fitted board (to reset one board, `write DEV reset 1`)"
+        );
+        assert!(refusal("calibrate now").contains("`calibrate` takes no argument"));
+        assert!(refusal("stop 3").contains("`stop` takes no argument"));
     }
 
     #[test]
