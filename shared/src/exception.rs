@@ -20,7 +20,8 @@ pub enum ExceptionType {
     EncoderFault = 6,
     /// High duty, no motion, no current: the motor or its driver is disconnected.
     DriveFault = 7,
-    /// A slave motor drew more than its threshold at a low duty (<= 250): a short.
+    /// A slave motor drew more than its threshold at a duty of 250 or less: a short, or a
+    /// motor blocked before its controller reached full duty.
     ShortOc = 8,
     /// Master: a temperature sensor is missing from the OneWire bus.
     SensorMissing = 10,
@@ -72,7 +73,7 @@ impl ExceptionType {
             Stall => "stall",
             EncoderFault => "encoder fault",
             DriveFault => "drive fault",
-            ShortOc => "short (overcurrent at low duty)",
+            ShortOc => "short (overcurrent at a duty of 250 or less: a short, or a blocked motor)",
             SensorMissing => "temperature sensor missing",
             SlaveSilent => "slave not answering",
             BusSilent => "master silent (slave heard no bus traffic)",

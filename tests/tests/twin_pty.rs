@@ -556,7 +556,7 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     std::fs::write(&script, "calibrate\nreset\nwait 5\n").unwrap();
     let (result, text) = hostctl_on(&twin, &["--json", "run", &script.display().to_string()]);
     let err = result.expect_err("the rover ends stopped");
-    let short = "short (overcurrent at low duty)";
+    let short = "short (overcurrent at a duty of 250 or less: a short, or a blocked motor)";
     match &err {
         hostctl::HostError::EndedInException { faults, .. } => assert_eq!(
             faults,

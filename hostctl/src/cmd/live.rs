@@ -849,7 +849,7 @@ mod tests {
         assert_eq!(
             raised(&Snapshot::new(rows), &Dropped::default()),
             [
-                "controller 4: short (overcurrent at low duty), motor 0 (wheel 3's drive)",
+                "controller 4: short (overcurrent at a duty of 250 or less: a short, or a blocked motor), motor 0 (wheel 3's drive)",
                 "controllers 1, 2, 3: remote (EXCEPTIONDATA written: another board's fault \
                  spread by the master, or a PC), the whole board"
             ]
