@@ -16,6 +16,25 @@ fn expected_raw(half_degrees: i16) -> u16 {
     (((t + 20.0) * 65534.0) / 120.0) as u16
 }
 
+/// Puts REGMASTER_TEMPSREAD (id 14, new) in read set 3.
+fn select_tempsread(avr: &mut Avr) {
+    avr.uart_send(&[0x04, 0x04, 0x03, 14]);
+    assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [1]);
+}
+
+/// Reads set 3: REGMASTER_TEMPSREAD's two bytes.
+fn read_tempsread(avr: &mut Avr) -> Vec<u8> {
+    avr.uart_send(&[0x03, 0x03, 0x03]);
+    avr.uart_read_exact(2, 100_000).unwrap()
+}
+
+/// D = 10: sensor 9 is read by the tenth tick, at about 5 + 9·2 s; by 24 s more every
+/// sensor's bit is set.
+fn all_ten_read_after_2_d_seconds(avr: &mut Avr) {
+    avr.run_us(24_000_000);
+    assert_eq!(read_tempsread(avr), [0xff, 0x03], "all ten sensors read");
+}
+
 /// Sensor temperatures set before boot, half degrees (the others stay at 20.0 °C).
 const SET: [(usize, i16); 5] = [(0, 45), (1, 43), (4, -11), (7, 130), (9, 250)];
 
@@ -27,19 +46,10 @@ fn set_2_holds_every_sensor_after_2_d_seconds() {
         sensors.set_half_degrees(i, half);
     }
     avr.uart_read_until(b"Ready\r\n", 2_000_000).unwrap();
-    // REGMASTER_TEMPSREAD (id 14, new) in set 3: no sensor read yet at boot.
-    avr.uart_send(&[0x04, 0x04, 0x03, 14]);
-    assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [1]);
-    avr.uart_send(&[0x03, 0x03, 0x03]);
-    assert_eq!(avr.uart_read_exact(2, 100_000).unwrap(), [0, 0]);
-    // D = 10: sensor 9 is read by the tenth tick, at about 5 + 9·2 s.
-    avr.run_us(24_000_000);
-    avr.uart_send(&[0x03, 0x03, 0x03]);
-    assert_eq!(
-        avr.uart_read_exact(2, 100_000).unwrap(),
-        [0xff, 0x03],
-        "all ten sensors read"
-    );
+    // No sensor read yet at boot.
+    select_tempsread(&mut avr);
+    assert_eq!(read_tempsread(&mut avr), [0, 0]);
+    all_ten_read_after_2_d_seconds(&mut avr);
     avr.uart_send(&[0x0e, 0x04, 0x02, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11]);
     assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [11]);
     avr.uart_send(&[0x03, 0x03, 0x02]);
@@ -85,15 +95,8 @@ fn the_fastest_sensors_are_all_found_while_serial_bytes_interrupt_the_search() {
     avr.uart_take();
     // Every sensor was found: each tick reads one, none is missing (no type 10), and
     // after 2·D s all ten are marked read.
-    avr.uart_send(&[0x04, 0x04, 0x03, 14]);
-    assert_eq!(avr.uart_read_exact(1, 100_000).unwrap(), [1]);
-    avr.run_us(24_000_000);
-    avr.uart_send(&[0x03, 0x03, 0x03]);
-    assert_eq!(
-        avr.uart_read_exact(2, 100_000).unwrap(),
-        [0xff, 0x03],
-        "all ten sensors found and read"
-    );
+    select_tempsread(&mut avr);
+    all_ten_read_after_2_d_seconds(&mut avr);
     assert!(
         sensors.violations().is_empty(),
         "{:?}",
