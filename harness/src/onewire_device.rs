@@ -135,7 +135,8 @@ enum Power {
     Idle,
     /// CONVERT T ended at `since`; the conversion runs until `until`.
     Due { since: u64, until: u64 },
-    /// Driven high since `since` (cycles after CONVERT T: `late`), until `until`.
+    /// Driven high in time after CONVERT T, which ended at `since`; the conversion runs
+    /// until `until`.
     Held { since: u64, until: u64 },
 }
 
