@@ -274,7 +274,7 @@ pub const fn atomic_lock(masks: &LevelMasks, gated: &RegBits, ceiling: u8, base:
     }
     let mut k = base + 1;
     while k <= ceiling {
-        if level_registers(masks, k) > 1 {
+        if level_registers(masks, gated, k) > 1 {
             return true;
         }
         k += 1;
@@ -282,14 +282,13 @@ pub const fn atomic_lock(masks: &LevelMasks, gated: &RegBits, ceiling: u8, base:
     false
 }
 
-/// How many enable registers hold sources of level `k` (`k` ≥ 1).
-const fn level_registers(masks: &LevelMasks, k: u8) -> u8 {
-    let here = masks.level(k);
-    let below = masks.level(k - 1);
+/// How many enable registers hold ungated sources of level `k` (a register with a gated
+/// one is never exact, so the lock is atomic for it already).
+const fn level_registers(masks: &LevelMasks, gated: &RegBits, k: u8) -> u8 {
     let mut n = 0;
     let mut r = 0;
     while r < REG_COUNT {
-        if here.0[r] & !below.0[r] != 0 {
+        if crate::plan::level_bits(masks, gated, k, r) != 0 {
             n += 1;
         }
         r += 1;
