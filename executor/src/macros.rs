@@ -312,6 +312,16 @@ macro_rules! app {
                 }
             );
 
+            // The task's level, as an absolute symbol `__exec_level_<vector>` (no flash):
+            // the static stack bound reads the levels from the image, not from a copy.
+            #[cfg(target_arch = "avr")]
+            ::core::arch::global_asm!(
+                ".global __exec_level_{vector}",
+                ".set __exec_level_{vector}, {level}",
+                vector = const $crate::Source::$vector.vector(),
+                level = const $task::PRIORITY,
+            );
+
             #[cfg(target_arch = "avr")]
             #[avr_device::interrupt(atmega328p)]
             fn $vector() {

@@ -20,6 +20,10 @@
 //! two bytes the hardware pushes on entry: within a level the executor masks every
 //! source of that level, so no two tasks of one level are ever on the stack together.
 //! The `init` path (`___exec_setup`) runs with interrupts off and counts alone.
+//!
+//! Each task's level comes from the image itself: the executor's `app!` records it as an
+//! absolute symbol `__exec_level_<vector>` (no flash), so the bound follows the tasks'
+//! declarations with no copy of them here.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -76,6 +80,9 @@ pub struct Program {
     vectors: Vec<(u8, usize)>,
     /// `__heap_start`, the first byte past the static data, as a data address.
     heap_start: Option<u32>,
+    /// (vector number, priority level) of each task the executor declared, from the
+    /// `__exec_level_<vector>` symbols.
+    levels: Vec<(u8, u8)>,
 }
 
 /// The bound and where it comes from.
@@ -92,18 +99,8 @@ pub struct Bound {
     pub total: u32,
 }
 
-// The priority levels of the images' tasks, as `(vector, level)`, from their declarations
-// (`slave/src/lib.rs`, `master/src/main.rs`). Vectors: PCINT2 5, TIMER0_COMPA 14,
-// TIMER0_COMPB 15, USART_RX 18, USART_UDRE 19, ADC 21, TWI 24. [`Program::bound`]
-// refuses a list that names other vectors than the image handles.
-
-/// The drive/steer slave's tasks: millis and the encoder edge at 3, TWI and ADC at 2,
-/// the control tick at 1.
-pub const DRIVE_STEER_LEVELS: &[(u8, u8)] = &[(14, 3), (5, 3), (24, 2), (21, 2), (15, 1)];
-/// The lift/lift slave's: the same without the encoder task.
-pub const LIFT_LIFT_LEVELS: &[(u8, u8)] = &[(14, 3), (24, 2), (21, 2), (15, 1)];
-/// The master's: the serial link's receive and transmit and the RC edges at 3, millis at 2.
-pub const MASTER_LEVELS: &[(u8, u8)] = &[(18, 3), (19, 3), (5, 3), (14, 2)];
+/// The prefix of the absolute symbols in which the executor records each task's level.
+const LEVEL_SYMBOL: &str = "__exec_level_";
 
 /// The bytes of an ATmega328P vector table slot: vector n sits at 4·n.
 const VECTOR_SLOT: u32 = 4;
@@ -150,6 +147,25 @@ fn code_symbols(symbols: &str) -> Vec<Function> {
         .collect();
     out.sort_by_key(|f| f.start);
     out
+}
+
+/// The `(vector, level)` of every `__exec_level_<vector>` absolute symbol (`ADDR g
+/// *ABS* 0 NAME`, the level as the address), sorted by vector.
+fn task_levels(symbols: &str) -> Result<Vec<(u8, u8)>, String> {
+    let mut out = Vec::new();
+    for line in symbols.lines() {
+        let t: Vec<&str> = line.split_whitespace().collect();
+        let Some(vector) = t.last().and_then(|n| n.strip_prefix(LEVEL_SYMBOL)) else {
+            continue;
+        };
+        let level = t.first().and_then(|a| hex(a));
+        let (Ok(vector), Some(Ok(level))) = (vector.parse(), level.map(u8::try_from)) else {
+            return Err(format!("unreadable task level symbol: {line}"));
+        };
+        out.push((vector, level));
+    }
+    out.sort_unstable();
+    Ok(out)
 }
 
 /// The instruction lines of `avr-objdump -d --no-show-raw-insn`.
@@ -365,6 +381,7 @@ impl Program {
             address_taken: taken,
             vectors,
             heap_start: heap_start.map(|a| a & 0xffff),
+            levels: task_levels(symbols)?,
         })
     }
 
@@ -455,17 +472,23 @@ impl Program {
             .collect()
     }
 
-    /// The stack bound for tasks bound to vectors at the given priority levels
-    /// `(vector, level)`. Every vector with a handler must be listed, and only those.
-    pub fn bound(&self, levels: &[(u8, u8)]) -> Result<Bound, String> {
-        let mut handled: Vec<u8> = self.vectors().iter().map(|&(n, _)| n).collect();
-        let mut listed: Vec<u8> = levels.iter().map(|&(n, _)| n).collect();
-        handled.sort_unstable();
-        listed.sort_unstable();
-        if handled != listed {
+    /// The executor's tasks as (vector, priority level), by vector, as the image records
+    /// them.
+    pub fn levels(&self) -> &[(u8, u8)] {
+        &self.levels
+    }
+
+    /// The stack bound, each task at the level the image records for it. Every vector
+    /// with a handler must be a task's, and every task's vector must have a handler.
+    pub fn bound(&self) -> Result<Bound, String> {
+        let levels = self.levels.as_slice();
+        let handled: Vec<u8> = self.vectors().iter().map(|&(n, _)| n).collect();
+        let tasks: Vec<u8> = levels.iter().map(|&(n, _)| n).collect();
+        if handled != tasks {
             return Err(format!(
-                "the image handles vectors {handled:?} but the levels list {listed:?}: \
-                 update the list from the application's task declarations"
+                "the image handles vectors {handled:?} but records executor tasks on \
+                 {tasks:?}: a handler outside `executor::app!` has no known level (declare \
+                 it as a task), or the image was linked without the executor's level symbols"
             ));
         }
         let init = |name: &str| name.ends_with("___exec_setup");
@@ -511,6 +534,7 @@ mod tests {
 00000120 g       .text	00000004 .hidden pointed
 00000068 l     O .text	00000004 TABLE
 00800249 g       *ABS*	00000000 __heap_start
+00000001 g       *ABS*	00000000 __exec_level_5
 ";
 
     const CODE: &str = "\
@@ -575,15 +599,43 @@ mod tests {
     fn the_bound_adds_one_task_per_level_to_main_without_init() {
         let p = program();
         assert_eq!(p.vectors(), vec![(5, "__vector_5")]);
-        let b = p.bound(&[(5, 1)]).expect("bound");
+        assert_eq!(p.levels(), &[(5, 1)]);
+        let b = p.bound().expect("bound");
         // main without init: its icall of `pointed` (2 + 1), from the startup (2).
         assert_eq!(b.main, 2 + 3);
         assert_eq!(b.main_with_init, 2 + 4);
         assert_eq!(b.levels, vec![(1, "__vector_5".to_string(), 2 + 113)]);
         assert_eq!(b.total, 5 + 115);
         assert_eq!(p.static_ram(), Ok(0x149));
-        let err = p.bound(&[(5, 1), (6, 2)]).unwrap_err();
-        assert!(err.contains("update the list"), "{err}");
+    }
+
+    #[test]
+    fn a_level_is_read_from_its_symbol() {
+        let symbols = SYMBOLS.replace("00000001 g       *ABS*", "00000003 g       *ABS*");
+        let p = Program::parse(&symbols, CODE, &[]).expect("parses");
+        assert_eq!(p.levels(), &[(5, 3)]);
+        assert_eq!(p.bound().expect("bound").levels[0].0, 3);
+        let bad = SYMBOLS.replace("00000001 g       *ABS*", "00000301 g       *ABS*");
+        let err = Program::parse(&bad, CODE, &[]).unwrap_err();
+        assert!(err.contains("unreadable task level"), "{err}");
+    }
+
+    #[test]
+    fn a_handler_without_a_recorded_level_is_refused() {
+        // A vector handled outside the executor, or an image without the level symbols.
+        let symbols = SYMBOLS.replace("__exec_level_5", "something_else");
+        let err = Program::parse(&symbols, CODE, &[])
+            .expect("parses")
+            .bound()
+            .unwrap_err();
+        assert!(err.contains("has no known level"), "{err}");
+        // A task whose vector has no handler.
+        let symbols = format!("{SYMBOLS}00000002 g       *ABS*\t00000000 __exec_level_6\n");
+        let err = Program::parse(&symbols, CODE, &[])
+            .expect("parses")
+            .bound()
+            .unwrap_err();
+        assert!(err.contains("records executor tasks on [5, 6]"), "{err}");
     }
 
     #[test]

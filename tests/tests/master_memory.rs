@@ -12,7 +12,7 @@ mod master_support;
 
 use harness::firmware_path;
 use master_support::{Options, Rig};
-use rover_tests::stack_bound::{Program, MASTER_LEVELS};
+use rover_tests::stack_bound::Program;
 
 /// The original firmware's static RAM, bytes: the goal for static data plus stack.
 const ORIGINAL_STATIC_RAM: u16 = 1269;
@@ -61,7 +61,7 @@ fn static_data_and_the_deepest_stack_stay_within_their_limit() {
     rig.exchange(&[0x03, 0x03, 0x02], 22);
     let ram = rig.ram();
     let bound = Program::of_elf(&firmware_path("master"))
-        .and_then(|p| p.bound(MASTER_LEVELS))
+        .and_then(|p| p.bound())
         .expect("a static stack bound")
         .total;
     println!(

@@ -13,7 +13,7 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use harness::{firmware_path, Avr, CpuState, Pin};
-use rover_tests::stack_bound::{Program, DRIVE_STEER_LEVELS};
+use rover_tests::stack_bound::Program;
 use shared::regs::id;
 use slave_support::{rig, Rig, DRIVE_GAINS, LIFT_GAINS_WHEEL_1, STEER_GAINS_WHEEL_1};
 
@@ -181,7 +181,7 @@ fn drive_steer_costs() {
     let statics = u32::from(heap) - 0x100;
     // The worst case is the static bound (`stack_bound`); this run reaches near it.
     let bound = Program::of_elf(&firmware_path("slave-drive"))
-        .and_then(|p| p.bound(DRIVE_STEER_LEVELS))
+        .and_then(|p| p.bound())
         .expect("a static stack bound")
         .total;
     println!(

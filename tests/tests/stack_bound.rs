@@ -4,13 +4,11 @@
 //! show what one run reached, and are checked against the same bound there.
 //!
 use harness::firmware_path;
-use rover_tests::stack_bound::{
-    Bound, Program, DRIVE_STEER_LEVELS, LIFT_LIFT_LEVELS, MASTER_LEVELS,
-};
+use rover_tests::stack_bound::{Bound, Program};
 
-fn bound_of(image: &str, levels: &[(u8, u8)]) -> (u32, Bound) {
+fn bound_of(image: &str) -> (u32, Bound) {
     let program = Program::of_elf(&firmware_path(image)).expect("the image's disassembly");
-    let bound = program.bound(levels).expect("a static stack bound");
+    let bound = program.bound().expect("a static stack bound");
     let statics = program.static_ram().expect("static RAM");
     let deepest: Vec<String> = bound
         .levels
@@ -31,7 +29,7 @@ fn bound_of(image: &str, levels: &[(u8, u8)]) -> (u32, Bound) {
 
 #[test]
 fn drive_steer_static_ram_plus_its_stack_bound_stays_below_the_originals_static_ram() {
-    let (statics, bound) = bound_of("slave-drive", DRIVE_STEER_LEVELS);
+    let (statics, bound) = bound_of("slave-drive");
     // The control tick, the deepest task, is what the bound is mostly made of.
     assert_eq!(bound.levels[0].0, 1);
     assert!(bound.levels[0].2 > bound.levels[1].2 + bound.levels[2].2);
@@ -40,23 +38,36 @@ fn drive_steer_static_ram_plus_its_stack_bound_stays_below_the_originals_static_
 
 #[test]
 fn lift_lift_static_ram_plus_its_stack_bound_stays_below_the_originals_static_ram() {
-    let (statics, bound) = bound_of("slave-lift", LIFT_LIFT_LEVELS);
+    let (statics, bound) = bound_of("slave-lift");
     assert!(statics + bound.total < 945, "{statics} + {bound:?}");
 }
 
 #[test]
 fn master_static_ram_plus_its_stack_bound_stays_below_the_originals_static_ram() {
-    let (statics, bound) = bound_of("master", MASTER_LEVELS);
+    let (statics, bound) = bound_of("master");
     // The master's work runs in idle (its service loop), not in a task.
     assert!(bound.main > bound.levels.iter().map(|l| l.2).sum::<u32>());
     assert!(statics + bound.total < 1_269, "{statics} + {bound:?}");
 }
 
 #[test]
-fn a_level_list_that_misses_a_task_is_refused() {
-    let program = Program::of_elf(&firmware_path("slave-drive")).expect("disassembly");
-    let err = program.bound(LIFT_LIFT_LEVELS).unwrap_err();
-    assert!(err.contains("update the list"), "{err}");
+fn each_images_task_levels_are_read_from_the_image_as_declared() {
+    // (vector, level) as `slave/src/bin/*.rs` and `master/src/main.rs` declare them:
+    // PCINT2 5, TIMER0_COMPA 14, TIMER0_COMPB 15, USART_RX 18, USART_UDRE 19, ADC 21,
+    // TWI 24. The bound takes them from the image; this pins that it reads them right.
+    let levels = |image: &str| {
+        Program::of_elf(&firmware_path(image))
+            .expect("the image's disassembly")
+            .levels()
+            .to_vec()
+    };
+    // Millis and the encoder edge at 3, TWI and ADC at 2, the control tick at 1.
+    let drive = [(5, 3), (14, 3), (15, 1), (21, 2), (24, 2)];
+    assert_eq!(levels("slave-drive"), drive);
+    // The same without the encoder.
+    assert_eq!(levels("slave-lift"), drive[1..]);
+    // The serial link's receive and transmit and the RC edges at 3, millis at 2.
+    assert_eq!(levels("master"), [(5, 3), (14, 2), (18, 3), (19, 3)]);
 }
 
 #[test]
