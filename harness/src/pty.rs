@@ -153,12 +153,26 @@ impl Pty {
                     self.host_opens += 1;
                 } else {
                     self.host_opens = self.host_opens.saturating_sub(1);
-                    if self.host_opens == 0 && self.hangs_up_on_close() {
+                    // A host that dropped DTR already ([`Pty::set_dtr`]) makes no second edge.
+                    if self.host_opens == 0 && self.dtr_high && self.hangs_up_on_close() {
                         self.dtr_high = false;
                         self.dtr_reset = true;
                     }
                 }
             }
+        }
+    }
+
+    /// Sets DTR as a host set it through the twin's control socket: a pty has no modem
+    /// lines, so hostctl sends this way the DTR writes it makes on a USB serial port (its
+    /// open's 10-ms pulse, its close's drop), which reach the board there whoever else
+    /// holds the port. A change resets an Uno, as a first open or a last close does.
+    pub fn set_dtr(&mut self, high: bool) {
+        // Opens and closes already made first, so a drop told after a close counts once.
+        self.poll_watch();
+        if self.dtr_high != high {
+            self.dtr_high = high;
+            self.dtr_reset = true;
         }
     }
 

@@ -24,12 +24,17 @@ pub const DTR_PULSE: Duration = Duration::from_millis(10);
 /// Closing it resets the master, which through its boot stops every motor: the port has
 /// HUPCL set, as the original library sets it (reference §4.1), from the open and again at
 /// the close (a program may clear it meanwhile: `stty -F PORT -hupcl`, an IDE), and the
-/// close drops DTR itself where the device has the line.
+/// close drops DTR itself where the device has the line, so the reset comes even while
+/// another program holds the port open (its last close would not drop DTR). A twin's pty
+/// has no modem lines: there the DTR writes go to the twin's control socket.
 pub struct SerialPort {
     inner: Box<dyn serialport::SerialPort>,
     /// The descriptor `inner` owns, for HUPCL.
     #[cfg(unix)]
     fd: std::os::fd::RawFd,
+    /// The control socket of the twin whose pty this is, if one serves the path.
+    #[cfg(unix)]
+    twin: Option<std::path::PathBuf>,
 }
 
 impl SerialPort {
@@ -51,9 +56,11 @@ impl SerialPort {
             use std::os::fd::AsRawFd;
             let native = builder.open_native()?;
             let fd = native.as_raw_fd();
+            let control = crate::twin::control_of(std::path::Path::new(path));
             let port = Self {
                 inner: Box::new(native),
                 fd,
+                twin: control.exists().then_some(control),
             };
             port.hang_up_on_close().map_err(io::Error::from)?;
             port
@@ -62,14 +69,27 @@ impl SerialPort {
         let mut port = Self {
             inner: builder.open()?,
         };
-        let pulsed = port.inner.write_data_terminal_ready(false).is_ok();
+        let pulsed = port.set_dtr(false);
         std::thread::sleep(DTR_PULSE);
-        let raised = port.inner.write_data_terminal_ready(true).is_ok();
+        let raised = port.set_dtr(true);
         if pulsed && raised {
             // The master is rebooting; anything already buffered predates it.
             let _ = port.inner.clear(serialport::ClearBuffer::Input);
         }
         Ok(port)
+    }
+
+    /// Sets DTR on the device's line or, on a twin's pty, through the twin; whether either
+    /// took it.
+    fn set_dtr(&mut self, high: bool) -> bool {
+        if self.inner.write_data_terminal_ready(high).is_ok() {
+            return true;
+        }
+        #[cfg(unix)]
+        if let Some(control) = &self.twin {
+            return crate::twin::set_dtr(control, high);
+        }
+        false
     }
 
     /// Sets HUPCL, so that the last close of the port drops DTR.
@@ -92,7 +112,7 @@ impl Drop for SerialPort {
         // Best effort: a port that is gone resets the master by itself (USB unplugged).
         #[cfg(unix)]
         let _ = self.hang_up_on_close();
-        let _ = self.inner.write_data_terminal_ready(false);
+        let _ = self.set_dtr(false);
     }
 }
 

@@ -98,6 +98,24 @@ pub fn emulated_us(port: &Path) -> Option<u64> {
     reply.split_whitespace().next()?.parse().ok()
 }
 
+/// Tells the twin behind control socket `control` that the host set DTR `high` or low
+/// (its pty has no modem lines); whether it took it. Bounded: a twin that does not answer
+/// within a second is taken as gone.
+pub fn set_dtr(control: &Path, high: bool) -> bool {
+    use std::io::{Read, Write};
+    let Ok(mut stream) = std::os::unix::net::UnixStream::connect(control) else {
+        return false;
+    };
+    let line: &[u8] = if high { b"dtr high\n" } else { b"dtr low\n" };
+    let mut reply = String::new();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(1)))
+        .is_ok()
+        && stream.write_all(line).is_ok()
+        && stream.read_to_string(&mut reply).is_ok()
+        && reply.starts_with("DTR ")
+}
+
 /// Time as a twin counts it: its emulated time, read over its control socket. `hostctl`
 /// waits in it (the settle after the banner, `run`'s pauses and live views) when its port
 /// is a twin's, so a twin slower than real time still sees the waits the script asks for.

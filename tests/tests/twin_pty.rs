@@ -199,15 +199,13 @@ fn drive_speeds(control: &std::path::Path) -> Vec<f64> {
     wheel_states(control).iter().map(|s| s[0]).collect()
 }
 
-#[test]
-fn closing_the_port_stops_a_rover_left_driving() {
-    let twin = Linked::start("twin-hangup-test");
-    let (dir, link) = (twin.dir.clone(), twin.link.clone());
-    let (control, port) = (twin.control.clone(), twin.port.clone());
-    let mut clock = hostctl::twin::clock_for(&port);
-
-    // A script that ends with the rover driving, run over a port this test holds open.
-    let script = dir.join("drive.rover");
+/// Opens `twin`'s port as hostctl does and runs a script that ends with every wheel
+/// driving at 1000; returns the open link and the wheels' speeds at the script's end.
+fn leave_driving(
+    twin: &Linked,
+    clock: &mut dyn hostctl::cmd::run::Clock,
+) -> (hostctl::link::Link<hostctl::port::SerialPort>, Vec<f64>) {
+    let script = twin.dir.join("drive.rover");
     std::fs::write(&script, "calibrate\nreset\ndrive all 1000\nwait 5\n").unwrap();
     let args = ["hostctl", "run", &script.display().to_string()];
     let cli = <hostctl::cli::Cli as clap::Parser>::try_parse_from(args).unwrap();
@@ -217,31 +215,53 @@ fn closing_the_port_stops_a_rover_left_driving() {
         in_place: false,
         width: || None,
     };
-    let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
-    hostctl::execute_with_clock(&plan, &mut serial, style, &mut Vec::new(), &mut *clock)
+    let mut serial = hostctl::link::open_serial(&twin.port, Duration::ZERO).expect("the banner");
+    hostctl::execute_with_clock(&plan, &mut serial, style, &mut Vec::new(), clock)
         .expect("the script runs");
-    let driving = drive_speeds(&control);
+    let driving = drive_speeds(&twin.control);
     assert_eq!(driving.len(), 6);
     assert!(
         driving.iter().all(|&s| s > 900.0),
         "driving at the end: {driving:?}"
     );
-    let before = slave_resets(&control);
-    // Closed as hostctl closes it: HUPCL is the serial port's default, as on the
-    // original library's port.
-    drop(serial);
+    (serial, driving)
+}
 
-    // The master resets on the close and hard-resets every controller: all coast down.
+/// Closes hostctl's port and checks that this rebooted the master, which hard-reset every
+/// controller once, so that every wheel coasts down from `driving`.
+fn close_and_see_every_wheel_coast(
+    twin: &Linked,
+    serial: hostctl::link::Link<hostctl::port::SerialPort>,
+    driving: &[f64],
+    clock: &mut dyn hostctl::cmd::run::Clock,
+) {
+    let before = slave_resets(&twin.control);
+    drop(serial);
     clock.sleep(Duration::from_millis(1_500));
-    let after = slave_resets(&control);
+    let after = slave_resets(&twin.control);
     for (b, a) in before.iter().zip(&after) {
         assert_eq!(*a, b + 1, "one hard reset each: {before:?} -> {after:?}");
     }
-    let coasting = drive_speeds(&control);
+    let coasting = drive_speeds(&twin.control);
     assert_eq!(coasting.len(), 6, "{coasting:?}");
     for (d, c) in driving.iter().zip(&coasting) {
         assert!(*c < d * 0.7, "coasting down: {driving:?} -> {coasting:?}");
     }
+}
+
+#[test]
+fn closing_the_port_stops_a_rover_left_driving() {
+    let twin = Linked::start("twin-hangup-test");
+    let link = twin.link.clone();
+    let (control, port) = (twin.control.clone(), twin.port.clone());
+    let mut clock = hostctl::twin::clock_for(&port);
+
+    // A script that ends with the rover driving, run over a port this test holds open.
+    let (serial, driving) = leave_driving(&twin, &mut *clock);
+    // Closed as hostctl closes it: HUPCL is the serial port's default, as on the
+    // original library's port. The master resets on the close and hard-resets every
+    // controller: all coast down.
+    close_and_see_every_wheel_coast(&twin, serial, &driving, &mut *clock);
 
     // A program that clears HUPCL closes without a reset: nothing reboots.
     let file = std::fs::OpenOptions::new()
@@ -273,6 +293,39 @@ fn closing_the_port_stops_a_rover_left_driving() {
     );
     drop(again);
 
+    twin.finish();
+}
+
+#[test]
+fn hostctl_resets_the_master_at_its_open_and_close_while_another_program_holds_the_port() {
+    let twin = Linked::start("twin-held-port");
+    let mut clock = hostctl::twin::clock_for(&twin.port);
+    // A serial monitor (or ModemManager, or `cat`) opened the port first and reads what
+    // comes: the banner of the reset its open made is gone when hostctl opens.
+    let mut other = std::fs::File::open(&twin.link).unwrap();
+    clock.sleep(Duration::from_millis(700));
+    let flags = nix::fcntl::fcntl(&other, nix::fcntl::FcntlArg::F_GETFL).unwrap();
+    let nonblocking = nix::fcntl::OFlag::from_bits_truncate(flags) | nix::fcntl::OFlag::O_NONBLOCK;
+    nix::fcntl::fcntl(&other, nix::fcntl::FcntlArg::F_SETFL(nonblocking)).unwrap();
+    let mut taken = Vec::new();
+    let _ = std::io::Read::read_to_end(&mut other, &mut taken);
+    assert!(
+        String::from_utf8_lossy(&taken).contains("Ready"),
+        "the other program took the banner: {taken:?}"
+    );
+
+    // hostctl's open pulses DTR, which on a USB serial port resets the Uno whoever holds
+    // the port (a pty has no DTR: the twin hears it over its control socket), so a fresh
+    // banner comes; and its close drops DTR, which reboots the master with the other
+    // program still holding the port, where that close alone would not.
+    let (serial, driving) = leave_driving(&twin, &mut *clock);
+    close_and_see_every_wheel_coast(&twin, serial, &driving, &mut *clock);
+
+    // DTR is already down: the other program's close resets nothing more.
+    let after = slave_resets(&twin.control);
+    drop(other);
+    clock.sleep(Duration::from_millis(700));
+    assert_eq!(slave_resets(&twin.control), after, "no second reset");
     twin.finish();
 }
 

@@ -15,6 +15,7 @@
 //! | `rc CH US` | Set RC channel CH's pulse width (µs, 500..2500) |
 //! | `status` | Emulated time, speed, faults, every wheel's physical state, every board's LEDs and bridges |
 //! | `time` | Emulated time since power-up, µs (`hostctl` waits in it for the slaves to boot) |
+//! | `dtr low\|high` | A host's DTR line, which a pty cannot carry (`hostctl` sends its open's DTR pulse and its close's DTR drop this way): a change resets the master, as on the Uno, whoever else holds the port open |
 
 use crate::serial::Direction;
 use crate::wiring::{Axis, WHEELS};
@@ -85,6 +86,9 @@ pub enum Command {
     Status,
     /// Report the emulated time.
     Time,
+    /// A host's DTR line: high (true) or low. Only a served port has one
+    /// ([`crate::serve::Server`] applies it).
+    Dtr(bool),
 }
 
 /// Why a command line was not understood.
@@ -125,7 +129,8 @@ pub enum CommandError {
 /// The list of commands, for error messages.
 pub const HELP: &str = "commands: stall W [drive|steer|lift] on|off, cut N, restore N, \
 reboot N, spike W drive|steer|lift AMPS MS, sensor I remove|restore, temp I CELSIUS, \
-drop-serial N [to-master|to-host], drop-serial clear, rc on|off, rc CH US, status, time";
+drop-serial N [to-master|to-host], drop-serial clear, rc on|off, rc CH US, status, time, \
+dtr low|high";
 
 const STALL: &str = "stall W [drive|steer|lift] on|off   (W = wheel 1..6)";
 const CUT: &str = "cut N   (N = controller 1..9)";
@@ -136,6 +141,7 @@ const SENSOR: &str = "sensor I remove|restore   (I = 0 ambient, 1..9)";
 const TEMP: &str = "temp I CELSIUS   (I = 0 ambient, 1..9; -55 <= CELSIUS <= 125)";
 const DROP: &str = "drop-serial N [to-master|to-host], or drop-serial clear";
 const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode; US = 500..2500)";
+const DTR: &str = "dtr low|high";
 
 fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
     word.parse().map_err(|_| CommandError::BadNumber {
@@ -317,6 +323,9 @@ impl Command {
             ("status", _) => Err(CommandError::Usage("status")),
             ("time", []) => Ok(Command::Time),
             ("time", _) => Err(CommandError::Usage("time")),
+            ("dtr", ["low"]) => Ok(Command::Dtr(false)),
+            ("dtr", ["high"]) => Ok(Command::Dtr(true)),
+            ("dtr", _) => Err(CommandError::Usage(DTR)),
             (other, _) => Err(CommandError::Unknown(other.to_owned())),
         }
     }
@@ -413,6 +422,7 @@ impl Command {
             }
             Command::Status => crate::status(rover),
             Command::Time => format!("{} µs emulated", rover.micros()),
+            Command::Dtr(_) => return Err(TwinError::PortOnly("dtr")),
         })
     }
 }
@@ -491,6 +501,12 @@ mod tests {
         );
         assert_eq!(p("status"), Ok(Command::Status));
         assert_eq!(p("time"), Ok(Command::Time));
+        assert_eq!(p("dtr low"), Ok(Command::Dtr(false)));
+        assert_eq!(p("dtr high"), Ok(Command::Dtr(true)));
+        assert_eq!(
+            Command::parse("dtr up").map_err(|e| e.to_string()),
+            Err("usage: dtr low|high".to_owned())
+        );
     }
 
     #[test]

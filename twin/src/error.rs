@@ -58,6 +58,10 @@ pub enum TwinError {
         /// The pty link the socket belongs to, when the socket is named after one.
         link: Option<PathBuf>,
     },
+    /// A command that acts on the served port (`dtr`) was given where there is none, such
+    /// as `--fault` at start.
+    #[error("`{0}` acts on the port a running twin serves: send it over its control socket (`twin inject`)")]
+    PortOnly(&'static str),
     /// The control socket or a link path failed.
     #[error("{what} {path}: {source}")]
     Io {

@@ -2,7 +2,8 @@
 //! tests that open the pty as a host program would.
 //!
 //! Each turn of the loop: reset the master if a program has just opened the port (the Uno's
-//! DTR auto-reset) or closed it with HUPCL set, move bytes between the pty and the master's serial line, run a slice of
+//! DTR auto-reset), closed it with HUPCL set, or told DTR's change over the control socket
+//! (`dtr`), move bytes between the pty and the master's serial line, run a slice of
 //! emulated time, move bytes again, answer the control socket, and (when paced) sleep until
 //! the wall clock has caught up with emulated time.
 
@@ -46,9 +47,14 @@ pub struct Server {
     paced: bool,
 }
 
-/// Parses and applies one command line; the reply says what happened.
-pub fn handle(rover: &mut Rover, line: &str) -> String {
+/// Parses and applies one command line; the reply says what happened. `dtr` goes to the
+/// port, the rest to the rover.
+pub fn handle(rover: &mut Rover, pty: &mut Pty, line: &str) -> String {
     match Command::parse(line) {
+        Ok(Command::Dtr(high)) => {
+            pty.set_dtr(high);
+            format!("DTR {}", if high { "high" } else { "low" })
+        }
         Ok(c) => match c.apply(rover) {
             Ok(text) => text,
             Err(e) => format!("error: {e}"),
@@ -113,8 +119,8 @@ impl Server {
         self.rover.run_us(SLICE_US)?;
         self.pump()?;
         if let Some(socket) = &mut self.control {
-            let rover = &mut self.rover;
-            socket.serve(&mut |line| handle(rover, line));
+            let (rover, pty) = (&mut self.rover, &mut self.pty);
+            socket.serve(&mut |line| handle(rover, pty, line));
         }
         Ok(())
     }
