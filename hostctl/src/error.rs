@@ -310,7 +310,7 @@ pub enum HostError {
     Output(io::Error),
 
     /// Reading or writing the port failed.
-    #[error("serial I/O failed: {0}; check the cable or restart the twin")]
+    #[error("serial I/O failed: {0}; check the cable or restart the twin. The rover may still be moving: a master with power of its own goes on with the last demands, unless the session wrote REGMASTER_PCTIMEOUT (`write 0 pctimeout MS`), which stops every motor that long after the PC went quiet")]
     Io(#[from] io::Error),
 
     /// The reply did not arrive in time.

@@ -22,6 +22,9 @@ pub struct FakePort {
     pub timeouts: Vec<Duration>,
     /// Per frame, the first timeout set after it: how long its reply was waited for.
     pub reply_timeouts: Vec<Duration>,
+    /// After this many frames the device is gone (unplugged, the twin killed): every
+    /// write fails with a broken pipe.
+    pub gone_after: Option<usize>,
 }
 
 impl FakePort {
@@ -91,6 +94,9 @@ impl Read for FakePort {
 
 impl Write for FakePort {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        if self.gone_after.is_some_and(|n| self.frames.len() >= n) {
+            return Err(io::Error::from(io::ErrorKind::BrokenPipe));
+        }
         self.frames.push(buf.to_vec());
         self.written.extend_from_slice(buf);
         if let Some(reply) = self.replies.pop_front() {

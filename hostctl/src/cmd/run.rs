@@ -758,9 +758,22 @@ fn live<P: Port>(
     let mut updates = 0u64;
     let mut next_draw = start;
     let period = if log { LOG_EVERY } else { REDRAW };
+    // The newest view not drawn yet: a link that fails draws it before its error, so that
+    // output sent to a file keeps the rover's last known state.
+    let mut undrawn: Option<Frame> = None;
     loop {
-        let snapshot: Snapshot = poller.update(link)?;
-        let shown = read_shown(session, link)?;
+        let polled = poller
+            .update(link)
+            .and_then(|snapshot| Ok((snapshot, read_shown(session, link)?)));
+        let (snapshot, shown) = match polled {
+            Ok(polled) => polled,
+            Err(e) => {
+                if let Some(frame) = undrawn.take() {
+                    draw(&frame, log, line, session, output, &mut screen)?;
+                }
+                return Err(e);
+            }
+        };
         session.dropped.note(&snapshot, &line.pc);
         session.last = Some(snapshot.clone());
         session.sent_since_last = false;
@@ -770,34 +783,24 @@ fn live<P: Port>(
         let now = clock.now();
         let elapsed = now.saturating_sub(start);
         let done = elapsed >= time || interrupted.is_some();
-        let draw = if log || output.in_place {
+        let frame = Frame {
+            rate: updates as f64 / elapsed.as_secs_f64().max(1e-3),
+            snapshot,
+            shown,
+            elapsed,
+            updates,
+        };
+        let due = if log || output.in_place {
             now >= next_draw || done
         } else {
             done
         };
-        if draw {
-            let rate = updates as f64 / elapsed.as_secs_f64().max(1e-3);
-            let dropped = &session.dropped;
-            let mut lines = view_lines(&snapshot, &line.pc, dropped, elapsed, updates, rate);
-            let shown_text = shown_lines(&shown, &snapshot, &line.pc, dropped, &lines);
-            lines.extend(shown_text);
-            let text = if output.json {
-                let mut t = view_json(&snapshot, line, dropped, &shown, elapsed, updates, rate);
-                t.push('\n');
-                t
-            } else if log {
-                let mut t = lines.join("\n");
-                t.push('\n');
-                t
-            } else {
-                screen.frame(&lines)
-            };
-            output
-                .out
-                .write_all(text.as_bytes())
-                .map_err(HostError::Output)?;
-            output.out.flush().map_err(HostError::Output)?;
+        if due {
+            draw(&frame, log, line, session, output, &mut screen)?;
             next_draw = now + period;
+            undrawn = None;
+        } else {
+            undrawn = Some(frame);
         }
         if let Some(signal) = interrupted {
             let at = format!(
@@ -811,6 +814,58 @@ fn live<P: Port>(
         }
         clock.sleep(TICK.min(time - elapsed));
     }
+}
+
+/// One update of a live view, ready to draw.
+struct Frame {
+    snapshot: Snapshot,
+    shown: Shown,
+    /// Since the view began.
+    elapsed: Duration,
+    /// Updates taken so far.
+    updates: u64,
+    /// Updates a second so far.
+    rate: f64,
+}
+
+/// Draws `frame` as the output asks: a JSON line, a log block, or the screen redrawn.
+fn draw(
+    frame: &Frame,
+    log: bool,
+    line: &Line,
+    session: &Session,
+    output: &mut Output<'_>,
+    screen: &mut Screen,
+) -> Result<(), HostError> {
+    let Frame {
+        snapshot,
+        shown,
+        elapsed,
+        updates,
+        rate,
+    } = frame;
+    let dropped = &session.dropped;
+    let text = if output.json {
+        let mut t = view_json(snapshot, line, dropped, shown, *elapsed, *updates, *rate);
+        t.push('\n');
+        t
+    } else {
+        let mut lines = view_lines(snapshot, &line.pc, dropped, *elapsed, *updates, *rate);
+        let shown_text = shown_lines(shown, snapshot, &line.pc, dropped, &lines);
+        lines.extend(shown_text);
+        if log {
+            let mut t = lines.join("\n");
+            t.push('\n');
+            t
+        } else {
+            screen.frame(&lines)
+        }
+    };
+    output
+        .out
+        .write_all(text.as_bytes())
+        .map_err(HostError::Output)?;
+    output.out.flush().map_err(HostError::Output)
 }
 
 #[cfg(test)]
@@ -960,7 +1015,11 @@ mod tests {
 
     /// [`run_plan`] with Ctrl-C at `at` on the fake clock.
     fn run_interrupted(plan: &Plan, replies: &[Vec<u8>], at: Duration, json: bool) -> Ran {
-        let mut port = FakePort::with_replies(replies);
+        run_on(plan, FakePort::with_replies(replies), at, json)
+    }
+
+    /// [`run_interrupted`] on `port`.
+    fn run_on(plan: &Plan, mut port: FakePort, at: Duration, json: bool) -> Ran {
         let mut link = Link::ready(&mut port);
         let mut clock = CtrlCAt(FakeClock(Duration::ZERO, Vec::new()), at);
         let mut out = Vec::new();
@@ -1866,7 +1925,27 @@ write 4 reset 2
             matches!(&e, HostError::ScriptStep { source, .. } if matches!(**source, HostError::Timeout { .. })),
             "{e}"
         );
-        assert_eq!(ran.text.matches(" updates, ").count(), 0, "{}", ran.text);
+        // The view's last update is drawn first, as the rover was last seen.
+        assert_eq!(ran.text.matches(" updates, ").count(), 1, "{}", ran.text);
+        assert!(ran.text.contains(": 5 updates, "), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_link_lost_during_a_view_draws_the_last_update_and_says_what_the_rover_may_do() {
+        // The port goes away (a cable pulled, the twin killed) after 30 update() rounds.
+        let mut port = FakePort::with_replies(&updates(300));
+        port.gone_after = Some(10 + 30 * 10);
+        let ran = run_on(&plan("wait 3\nsay after\n"), port, Duration::MAX, false);
+        let e = ran.result.unwrap_err();
+        assert_eq!(crate::exit_code(&e), 1);
+        let message = e.to_string();
+        assert!(message.contains("broken pipe"), "{message}");
+        assert!(message.contains("may still be moving"), "{message}");
+        assert!(message.contains("pctimeout"), "{message}");
+        // To a file a `wait` draws its view only at its end: the last one is drawn now.
+        assert_eq!(ran.text.matches(" updates, ").count(), 1, "{}", ran.text);
+        assert!(ran.text.contains(": 30 updates, "), "{}", ran.text);
+        assert!(!ran.text.lines().any(|l| l == "after"), "{}", ran.text);
     }
 
     #[test]
