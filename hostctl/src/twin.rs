@@ -198,25 +198,83 @@ fn log_tail(log: &Path) -> String {
 /// Joins the twin at the default link, or starts one; returns the link path. `note` hears
 /// what was done when a twin is started.
 pub fn join_or_start(note: &mut dyn FnMut(&str)) -> Result<String, HostError> {
-    let link = default_link();
+    join_or_start_at(&default_link(), &twin_program()?, note)
+}
+
+/// File next to the link that hostctls starting a twin lock in turn.
+const START_LOCK: &str = "start.lock";
+
+/// Takes the start lock of the twin directory `dir`, waiting (bounded, Ctrl-C ends it)
+/// while another hostctl holds it; released when the file is dropped.
+fn lock_start(dir: &Path, text: &str) -> Result<std::fs::File, HostError> {
+    let path = dir.join(START_LOCK);
+    let file = std::fs::File::create(&path).map_err(|e| HostError::Twin {
+        why: format!("cannot write {} ({e})", path.display()),
+    })?;
+    let start = Instant::now();
+    loop {
+        match file.try_lock() {
+            Ok(()) => return Ok(file),
+            Err(std::fs::TryLockError::WouldBlock) => {}
+            Err(std::fs::TryLockError::Error(e)) => {
+                return Err(HostError::Twin {
+                    why: format!("cannot lock {} ({e})", path.display()),
+                })
+            }
+        }
+        if let Some(signal) = crate::interrupt::caught() {
+            return Err(HostError::Interrupted {
+                signal,
+                at: format!(
+                    "while another hostctl started the twin behind {text}, before the script \
+                     started"
+                ),
+                line: None,
+            });
+        }
+        if start.elapsed() > START_TIMEOUT {
+            return Err(HostError::Twin {
+                why: format!(
+                    "another hostctl has been starting it for {} s (lock {}); stop that \
+                     hostctl, or give --port",
+                    START_TIMEOUT.as_secs(),
+                    path.display()
+                ),
+            });
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// [`join_or_start`] with the link and the twin program given. Two hostctls started
+/// together take turns (a lock file next to the link), so the second joins the twin the
+/// first started instead of starting another over the same link.
+fn join_or_start_at(
+    link: &Path,
+    program: &Path,
+    note: &mut dyn FnMut(&str),
+) -> Result<String, HostError> {
     let text = link.display().to_string();
-    if is_running(&link) {
+    if is_running(link) {
         return Ok(text);
     }
-    let program = twin_program()?;
     let dir = link.parent().unwrap_or(Path::new("/tmp"));
     std::fs::create_dir_all(dir).map_err(|e| HostError::Twin {
         why: format!("cannot create {} ({e})", dir.display()),
     })?;
+    let _turn = lock_start(dir, &text)?;
+    if is_running(link) {
+        return Ok(text);
+    }
     let log_path = dir.join("twin.log");
     let log = std::fs::File::create(&log_path).map_err(|e| HostError::Twin {
         why: format!("cannot write {} ({e})", log_path.display()),
     })?;
     let mut child = {
         use std::os::unix::process::CommandExt;
-        Command::new(&program)
+        Command::new(program)
             .arg("--link")
-            .arg(&link)
+            .arg(link)
             .arg("--idle-exit")
             .arg(IDLE_EXIT_S.to_string())
             .stdin(Stdio::null())
@@ -230,7 +288,7 @@ pub fn join_or_start(note: &mut dyn FnMut(&str)) -> Result<String, HostError> {
             })?
     };
     let start = Instant::now();
-    while !is_running(&link) {
+    while !is_running(link) {
         if let Ok(Some(status)) = child.try_wait() {
             return Err(HostError::Twin {
                 why: format!("it exited ({status}): {}", log_tail(&log_path)),
@@ -287,6 +345,53 @@ mod tests {
             r"twin inject --link '/tmp/my rover'\''s pty'"
         );
         assert_eq!(Inject::default().to_string(), "twin inject");
+    }
+
+    /// A stand-in for the twin: it notes its start, takes 0.3 s to put up its control
+    /// socket and link (as the real one builds ten chips first), then answers for 2 s. A
+    /// second one over the same link fails to bind, as the real one does.
+    const FAKE_TWIN: &str = r#"import os, socket, sys, time
+link = sys.argv[sys.argv.index("--link") + 1]
+with open(os.path.join(os.path.dirname(link), "starts"), "a") as f:
+    f.write("%d\n" % os.getpid())
+time.sleep(0.3)
+s = socket.socket(socket.AF_UNIX)
+s.bind(link + ".ctl")
+s.listen(8)
+os.symlink("/dev/null", link)
+s.settimeout(2)
+try:
+    while True:
+        s.accept()[0].close()
+except socket.timeout:
+    pass
+"#;
+
+    #[test]
+    fn two_hostctls_started_together_start_one_twin() {
+        let dir = std::env::temp_dir().join(format!("hostctl-start-race-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let twin_dir = dir.join(DIR_NAME);
+        std::fs::create_dir_all(&twin_dir).unwrap();
+        let program = dir.join("fake-twin");
+        std::fs::write(&program, format!("#!/usr/bin/env python3\n{FAKE_TWIN}")).unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let link = twin_dir.join(LINK_NAME);
+
+        let joins: Vec<_> = (0..2)
+            .map(|_| {
+                let (link, program) = (link.clone(), program.clone());
+                std::thread::spawn(move || join_or_start_at(&link, &program, &mut |_| {}))
+            })
+            .collect();
+        for join in joins {
+            let joined = join.join().unwrap().map_err(|e| e.to_string());
+            assert_eq!(joined, Ok(link.display().to_string()));
+        }
+        let starts = std::fs::read_to_string(twin_dir.join("starts")).unwrap();
+        assert_eq!(starts.lines().count(), 1, "one twin started: {starts:?}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
