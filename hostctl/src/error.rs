@@ -287,6 +287,25 @@ pub enum HostError {
     #[error("no serial port given: pass --port PATH (e.g. /dev/ttyACM0 or the twin's pty), set BLODWEN_PORT, or start the twin")]
     NoPort,
 
+    /// The port is the link of a twin that no longer runs: a link left by a twin that was
+    /// killed may now lead to another program's terminal.
+    #[error("{path} is the link of a twin that is gone (its control socket {control} does not answer), and it may now lead to another program's terminal, so hostctl did not open it; start a twin there (`twin --link {path}`), or remove the stale link and its socket")]
+    TwinGone {
+        /// The link given.
+        path: String,
+        /// Its control socket.
+        control: String,
+    },
+
+    /// The port is a file of another kind than a serial device.
+    #[error("{path} is {what}, not a serial device; give the rover's port (e.g. /dev/ttyACM0) or a twin's link (`twin --link PATH`)")]
+    NotSerial {
+        /// The path given.
+        path: String,
+        /// What it is, in words.
+        what: &'static str,
+    },
+
     /// The serial device could not be opened.
     #[error("cannot open {path}: {source}; {}", open_hint(path, source))]
     Open {
@@ -297,7 +316,7 @@ pub enum HostError {
     },
 
     /// The master never said `Ready`.
-    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right? (a port last closed without HUPCL, e.g. after `stty -hupcl`, does not reset the master when opened: run `stty -F {path} hupcl` and retry; a twin told to lose serial bytes loses the banner too: `twin inject --link {path} status` shows any still pending, `drop-serial clear` cancels them)")]
+    #[error("no `Ready` from {path}: {why}; is the rover/twin running? is {path} right? does another program read it (a serial monitor, ModemManager: `fuser {path}` names it)? (a port last closed without HUPCL, e.g. after `stty -hupcl`, does not reset the master when opened: run `stty -F {path} hupcl` and retry; a twin told to lose serial bytes loses the banner too: `twin inject --link {path} status` shows any still pending, `drop-serial clear` cancels them)")]
     NoBanner {
         /// The port.
         path: String,

@@ -4,6 +4,7 @@
 //! (the error may be older than the failed frame: the message says so).
 
 use std::io;
+use std::path::Path;
 use std::time::Duration;
 
 use shared::master::LinkError;
@@ -68,11 +69,34 @@ pub struct Link<P: Port> {
 /// Opens the serial device at `path` (115200 8N1, DTR pulse), waits for the
 /// banner and then for `settle`.
 pub fn open_serial(path: &str, settle: Duration) -> Result<Link<SerialPort>, HostError> {
+    check_port(Path::new(path))?;
     let port = SerialPort::open(path, banner::LINE_TIMEOUT).map_err(|source| HostError::Open {
         path: path.to_owned(),
         source,
     })?;
     Link::connect(port, path, settle)
+}
+
+/// Refuses a port that cannot be the rover's before anything touches it: a regular file,
+/// or the link of a twin that is gone (its control socket left behind, not answering).
+fn check_port(path: &Path) -> Result<(), HostError> {
+    #[cfg(unix)]
+    {
+        let control = crate::twin::control_of(path);
+        if control.exists() && std::os::unix::net::UnixStream::connect(&control).is_err() {
+            return Err(HostError::TwinGone {
+                path: path.display().to_string(),
+                control: control.display().to_string(),
+            });
+        }
+    }
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return Err(HostError::NotSerial {
+            path: path.display().to_string(),
+            what: "a regular file",
+        });
+    }
+    Ok(())
 }
 
 impl<P: Port> Link<P> {
@@ -558,6 +582,45 @@ mod tests {
     }
 
     #[test]
+    fn a_port_that_cannot_be_the_rover_s_is_refused_before_it_is_opened() {
+        let dir = std::env::temp_dir().join(format!("hostctl-stale-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        // A twin killed without cleaning up: its link, and its socket that nobody answers.
+        let link = dir.join("rover");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        let control = crate::twin::control_of(&link);
+        drop(std::os::unix::net::UnixListener::bind(&control).unwrap());
+        let err = open_serial(&link.display().to_string(), Duration::ZERO)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.starts_with(&format!(
+                "{} is the link of a twin that is gone (its control socket {} does not answer)",
+                link.display(),
+                control.display()
+            )),
+            "{err}"
+        );
+        // A regular file.
+        let file = dir.join("notes.txt");
+        std::fs::write(&file, "x").unwrap();
+        let err = open_serial(&file.display().to_string(), Duration::ZERO)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.starts_with(&format!(
+                "{} is a regular file, not a serial device",
+                file.display()
+            )),
+            "{err}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn connect_without_ready_names_the_port() {
         let port = FakePort::with_input(b"Starting\r\n");
         let err = Link::connect(port, "/dev/pts/9", Duration::ZERO)
@@ -567,7 +630,8 @@ mod tests {
         assert_eq!(
             err,
             "no `Ready` from /dev/pts/9: nothing for 5 s after 1 line(s); \
-             is the rover/twin running? is /dev/pts/9 right? (a port last closed without \
+             is the rover/twin running? is /dev/pts/9 right? does another program read it \
+             (a serial monitor, ModemManager: `fuser /dev/pts/9` names it)? (a port last closed without \
              HUPCL, e.g. after `stty -hupcl`, does not reset the master when opened: run \
              `stty -F /dev/pts/9 hupcl` and retry; a twin told to lose serial bytes \
              loses the banner too: `twin inject --link /dev/pts/9 status` shows any still \
