@@ -55,7 +55,7 @@ use crate::table::Screen;
 /// Arguments of `run`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The script, e.g. examples/demo.rover.
+    /// The script, e.g. examples/demo.rover (`-` reads it from standard input).
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
     /// The wheel pairs fitted, as a list of pair numbers (not the library's init() mask,
@@ -87,13 +87,47 @@ pub struct Plan {
 /// before its first ping would keep its demand, out of anyone's reach.
 pub const WATCH_FROM: Duration = Duration::from_millis(shared::master::ping::BOOT_SETTLE_MS as u64);
 
+/// A script's bytes as text, or why they are not UTF-8 and how to fix it.
+fn script_text(bytes: Vec<u8>) -> Result<String, String> {
+    String::from_utf8(bytes).map_err(|e| {
+        let bytes = e.as_bytes();
+        if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
+            return "the script is UTF-16 (what some editors call \"Unicode\"); save it as \
+                    UTF-8"
+                .to_owned();
+        }
+        let at = e.utf8_error().valid_up_to();
+        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
+        format!(
+            "line {line} is not UTF-8 (byte {:#04x}; an editor's Latin-1 or Windows-1252 \
+             `°` or `é`?); save the script as UTF-8",
+            bytes[at]
+        )
+    })
+}
+
 /// Reads and checks the script; nothing is sent.
 pub fn plan(args: &Args) -> Result<Plan, HostError> {
     let pairs = Pairs::parse(&args.pairs)?;
-    let path = args.file.display().to_string();
-    let source = std::fs::read_to_string(&args.file).map_err(|source| HostError::ScriptFile {
+    let stdin = args.file.as_os_str() == "-";
+    let path = if stdin {
+        "standard input".to_owned()
+    } else {
+        args.file.display().to_string()
+    };
+    let bytes = if stdin {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).map(|_| bytes)
+    } else {
+        std::fs::read(&args.file)
+    };
+    let bytes = bytes.map_err(|source| HostError::ScriptFile {
         path: path.clone(),
         source,
+    })?;
+    let source = script_text(bytes).map_err(|why| HostError::ScriptForm {
+        path: path.clone(),
+        why,
     })?;
     let lines = script::parse_for(&path, &source, pairs)?;
     Ok(Plan {
@@ -1928,6 +1962,18 @@ write 4 reset 2
         // The view's last update is drawn first, as the rover was last seen.
         assert_eq!(ran.text.matches(" updates, ").count(), 1, "{}", ran.text);
         assert!(ran.text.contains(": 5 updates, "), "{}", ran.text);
+    }
+
+    #[test]
+    fn a_script_that_is_not_utf8_names_its_line_and_the_fix() {
+        assert_eq!(script_text(b"say hi\n".to_vec()), Ok("say hi\n".to_owned()));
+        // `say Temperatur 20°C` saved as Windows-1252, on line 2.
+        let err = script_text(b"reset\nsay Temperatur 20\xb0C\n".to_vec()).unwrap_err();
+        assert!(err.starts_with("line 2 is not UTF-8 (byte 0xb0;"), "{err}");
+        assert!(err.ends_with("save the script as UTF-8"), "{err}");
+        // Notepad's "Unicode": UTF-16 with its byte-order mark.
+        let err = script_text(b"\xff\xfer\x00e\x00".to_vec()).unwrap_err();
+        assert!(err.starts_with("the script is UTF-16"), "{err}");
     }
 
     #[test]
