@@ -1,8 +1,10 @@
 //! Ctrl-C (SIGINT) or SIGTERM during `hostctl run`: the first asks the script to stop
 //! where it is, after the line in progress (a `wait` or `watch` ends at once and draws its
-//! view once more, so output sent to a file or a pipe keeps the rover's last state); a
-//! second one of either ends hostctl at once (the handler restores both defaults). Either
-//! way the port closes, which reboots the master and so stops every motor.
+//! view once more, so output sent to a file or a pipe keeps the rover's last state); during
+//! `hostctl watch`, it ends the watch after its round. A second one of either ends hostctl
+//! at once (the handler restores both defaults). Either way the port closes, which reboots
+//! the master and so stops every motor (the first way also drops DTR itself, which reaches
+//! the master even while another program holds the port).
 //!
 //! The handler only records the signal; the script's clock
 //! ([`crate::cmd::run::Clock::interrupted`]) and the waits before the script starts read it.

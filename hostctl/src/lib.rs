@@ -115,7 +115,7 @@ pub fn execute_with_clock<P: Port>(
         }
         Plan::Watch(p) => {
             let mut screen = Screen::new(style.in_place && !style.json, style.width);
-            return cmd::watch::run(p, link, &mut |round| {
+            return cmd::watch::run(p, link, clock, &mut |round| {
                 let text = if style.json {
                     let mut lines = cmd::watch::json_lines(round).join("\n");
                     lines.push('\n');

@@ -21,9 +21,13 @@ fn main() -> ExitCode {
             None => e.exit(),
         },
     };
-    // Ctrl-C stops a script after drawing its view once more (see `interrupt`); other
-    // commands keep the default: they end at once, closing the port.
-    if matches!(cli.command, hostctl::Command::Run(_)) {
+    // Ctrl-C stops a script after drawing its view once more, and a watch after its
+    // round (see `interrupt`); other commands keep the default: they end at once, closing
+    // the port.
+    if matches!(
+        cli.command,
+        hostctl::Command::Run(_) | hostctl::Command::Watch(_)
+    ) {
         hostctl::interrupt::install();
     }
     let style = Style {

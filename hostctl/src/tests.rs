@@ -1853,3 +1853,71 @@ fn the_port_flag_wins_over_the_environment() {
          or leave --port out to use BLODWEN_PORT or the twin"
     );
 }
+
+/// A clock whose time moves only when slept on, with Ctrl-C pressed at `at`.
+struct CtrlCAt {
+    now: std::time::Duration,
+    at: std::time::Duration,
+}
+
+impl crate::cmd::run::Clock for CtrlCAt {
+    fn now(&self) -> std::time::Duration {
+        self.now
+    }
+    fn sleep(&mut self, d: std::time::Duration) {
+        self.now += d;
+    }
+    fn interrupted_by(&self) -> Option<i32> {
+        (self.now >= self.at).then_some(2)
+    }
+}
+
+#[test]
+fn ctrl_c_ends_a_watch_after_its_round_with_status_130() {
+    // Rounds every 100 ms; Ctrl-C at 250 ms, in the wait after round 3.
+    let mut replies: Vec<Vec<u8>> = vec![vec![0x01]];
+    replies.extend((1..=5u8).map(|t| vec![t, 0x00]));
+    for json in [false, true] {
+        let args = format!(
+            "{}watch --readset 1 --device 3 --interval-ms 100 TIMER",
+            if json { "--json " } else { "" }
+        );
+        let cli = Cli::try_parse_from(std::iter::once("hostctl").chain(args.split_whitespace()));
+        let cli = cli.unwrap();
+        let plan = crate::plan(&cli.command).unwrap();
+        let mut port = FakePort::with_replies(&replies);
+        let mut link = Link::ready(&mut port);
+        let mut out = Vec::new();
+        let style = Style {
+            json,
+            in_place: false,
+            width: || None,
+        };
+        let mut clock = CtrlCAt {
+            now: std::time::Duration::ZERO,
+            at: std::time::Duration::from_millis(250),
+        };
+        let e =
+            crate::execute_with_clock(&plan, &mut link, style, &mut out, &mut clock).unwrap_err();
+        assert_eq!(crate::exit_code(&e), 130);
+        assert_eq!(
+            e.to_string(),
+            "stopped by Ctrl-C after round 3; the last round above is the rover as it was \
+             then; hostctl closes the port, which reboots the master and so stops every motor"
+        );
+        let out = String::from_utf8(out).unwrap();
+        if json {
+            assert_eq!(out.lines().count(), 3, "{out}");
+            assert!(
+                out.lines().last().unwrap().starts_with("{\"round\":3,"),
+                "{out}"
+            );
+            let last = crate::error_json(&cli.command, &e);
+            assert!(last.contains(r#""interrupted":"Ctrl-C""#), "{last}");
+        } else {
+            assert!(out.contains("round 3\n"), "{out}");
+            assert!(!out.contains("round 4"), "{out}");
+        }
+        assert_eq!(port.frames.len(), 1 + 3, "the set, then three rounds");
+    }
+}

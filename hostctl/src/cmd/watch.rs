@@ -19,8 +19,10 @@ use std::time::Duration;
 use shared::regs::{id, BoardKind, Register};
 
 use super::read::SCRATCH_SET;
+use super::run::{sleep_unless_interrupted, Clock};
 use super::{fresh, Frame, Reading, SetRead};
 use crate::error::HostError;
+use crate::interrupt::CLOSES;
 use crate::json;
 use crate::link::Link;
 use crate::meaning::Meaning;
@@ -336,10 +338,12 @@ pub struct Round {
     pub rows: Vec<Row>,
 }
 
-/// Configures the set, then polls it, handing each round to `on_round`.
+/// Configures the set, then polls it, handing each round to `on_round`; waits between
+/// rounds on `clock`. Ctrl-C (or SIGTERM) ends the watch after the round it is in.
 pub fn run<P: Port>(
     plan: &Plan,
     link: &mut Link<P>,
+    clock: &mut dyn Clock,
     on_round: &mut dyn FnMut(&Round) -> Result<(), HostError>,
 ) -> Result<(), HostError> {
     configure_sets(plan, link, |_| true)?;
@@ -347,7 +351,19 @@ pub fn run<P: Port>(
     let mut unread = Vec::new();
     while plan.count.is_none_or(|k| number < k) {
         if number > 0 {
-            std::thread::sleep(plan.interval);
+            sleep_unless_interrupted(clock, plan.interval);
+        }
+        if let Some(signal) = clock.interrupted_by() {
+            let at = if number == 0 {
+                format!("before the first round{CLOSES}")
+            } else {
+                format!("after round {number}; the last round above is the rover as it was then{CLOSES}")
+            };
+            return Err(HostError::Interrupted {
+                signal,
+                at,
+                line: None,
+            });
         }
         number += 1;
         let mut rows = Vec::with_capacity(plan.reads.len());
