@@ -375,7 +375,8 @@ fn a_watch_goes_on_past_bytes_the_serial_line_loses() {
     })
     .unwrap();
     let mut seen = Vec::new();
-    watch::run(&plan, &mut port, &mut |round| {
+    let mut clock = hostctl::twin::clock_for(&twin.port);
+    watch::run(&plan, &mut port, &mut *clock, &mut |round| {
         let row = &round.rows[0];
         seen.push(match &row.reading {
             Reading::Values(raws) => format!(
