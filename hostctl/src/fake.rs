@@ -5,7 +5,36 @@ use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::time::Duration;
 
+use crate::cmd::run::Clock;
 use crate::port::Port;
+
+/// A clock that only moves when slept on: (now, every sleep taken).
+pub struct FakeClock(pub Duration, pub Vec<Duration>);
+
+impl Clock for FakeClock {
+    fn now(&self) -> Duration {
+        self.0
+    }
+    fn sleep(&mut self, d: Duration) {
+        self.0 += d;
+        self.1.push(d);
+    }
+}
+
+/// The fake clock, with Ctrl-C pressed at the given time.
+pub struct CtrlCAt(pub FakeClock, pub Duration);
+
+impl Clock for CtrlCAt {
+    fn now(&self) -> Duration {
+        self.0.now()
+    }
+    fn sleep(&mut self, d: Duration) {
+        self.0.sleep(d);
+    }
+    fn interrupted_by(&self) -> Option<i32> {
+        (self.0.now() >= self.1).then_some(2)
+    }
+}
 
 /// A scripted fake of the master's serial link.
 #[derive(Debug, Default)]

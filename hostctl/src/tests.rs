@@ -1854,24 +1854,6 @@ fn the_port_flag_wins_over_the_environment() {
     );
 }
 
-/// A clock whose time moves only when slept on, with Ctrl-C pressed at `at`.
-struct CtrlCAt {
-    now: std::time::Duration,
-    at: std::time::Duration,
-}
-
-impl crate::cmd::run::Clock for CtrlCAt {
-    fn now(&self) -> std::time::Duration {
-        self.now
-    }
-    fn sleep(&mut self, d: std::time::Duration) {
-        self.now += d;
-    }
-    fn interrupted_by(&self) -> Option<i32> {
-        (self.now >= self.at).then_some(2)
-    }
-}
-
 #[test]
 fn ctrl_c_ends_a_watch_after_its_round_with_status_130() {
     // Rounds every 100 ms; Ctrl-C at 250 ms, in the wait after round 3.
@@ -1893,10 +1875,10 @@ fn ctrl_c_ends_a_watch_after_its_round_with_status_130() {
             in_place: false,
             width: || None,
         };
-        let mut clock = CtrlCAt {
-            now: std::time::Duration::ZERO,
-            at: std::time::Duration::from_millis(250),
-        };
+        let mut clock = crate::fake::CtrlCAt(
+            crate::fake::FakeClock(std::time::Duration::ZERO, Vec::new()),
+            std::time::Duration::from_millis(250),
+        );
         let e =
             crate::execute_with_clock(&plan, &mut link, style, &mut out, &mut clock).unwrap_err();
         assert_eq!(crate::exit_code(&e), 130);

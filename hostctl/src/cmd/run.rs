@@ -905,20 +905,7 @@ fn draw(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fake::FakePort;
-
-    /// A clock that only moves when slept on.
-    struct FakeClock(Duration, Vec<Duration>);
-
-    impl Clock for FakeClock {
-        fn now(&self) -> Duration {
-            self.0
-        }
-        fn sleep(&mut self, d: Duration) {
-            self.0 += d;
-            self.1.push(d);
-        }
-    }
+    use crate::fake::{CtrlCAt, FakeClock, FakePort};
 
     fn configure_replies() -> Vec<Vec<u8>> {
         (1..=9u8)
@@ -1880,21 +1867,6 @@ write 4 reset 2
         assert_eq!(ran.hex[10], "05 12 01 00 01");
         assert_eq!(ran.hex[20], "05 42 01 00 02");
         assert_eq!(ran.pauses, [RESET_GAP; 9]);
-    }
-
-    /// The fake clock, with Ctrl-C pressed at `at`.
-    struct CtrlCAt(FakeClock, Duration);
-
-    impl Clock for CtrlCAt {
-        fn now(&self) -> Duration {
-            self.0.now()
-        }
-        fn sleep(&mut self, d: Duration) {
-            self.0.sleep(d);
-        }
-        fn interrupted_by(&self) -> Option<i32> {
-            (self.0.now() >= self.1).then_some(2)
-        }
     }
 
     /// The replies of `init()` and then of `rounds` update() rounds.
