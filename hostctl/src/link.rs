@@ -83,7 +83,7 @@ fn check_port(path: &Path) -> Result<(), HostError> {
     #[cfg(unix)]
     {
         let control = crate::twin::control_of(path);
-        if control.exists() && std::os::unix::net::UnixStream::connect(&control).is_err() {
+        if control.exists() && !crate::twin::is_running(path) {
             return Err(HostError::TwinGone {
                 path: path.display().to_string(),
                 control: control.display().to_string(),

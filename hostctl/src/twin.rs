@@ -86,15 +86,22 @@ pub fn is_running(link: &Path) -> bool {
         && std::os::unix::net::UnixStream::connect(control_of(link)).is_ok()
 }
 
+/// Sends one command line to the twin at control socket `control` and returns its reply,
+/// if it answers within `timeout`.
+fn ask(control: &Path, line: &str, timeout: Duration) -> Option<String> {
+    use std::io::{Read, Write};
+    let mut stream = std::os::unix::net::UnixStream::connect(control).ok()?;
+    stream.set_read_timeout(Some(timeout)).ok()?;
+    stream.write_all(format!("{line}\n").as_bytes()).ok()?;
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply).ok()?;
+    Some(reply)
+}
+
 /// The emulated time of the twin whose pty is `port` (µs), if a twin answers at its control
 /// socket.
 pub fn emulated_us(port: &Path) -> Option<u64> {
-    use std::io::{Read, Write};
-    let mut stream = std::os::unix::net::UnixStream::connect(control_of(port)).ok()?;
-    stream.set_read_timeout(Some(Duration::from_secs(2))).ok()?;
-    stream.write_all(b"time\n").ok()?;
-    let mut reply = String::new();
-    stream.read_to_string(&mut reply).ok()?;
+    let reply = ask(&control_of(port), "time", Duration::from_secs(2))?;
     reply.split_whitespace().next()?.parse().ok()
 }
 
@@ -102,18 +109,8 @@ pub fn emulated_us(port: &Path) -> Option<u64> {
 /// (its pty has no modem lines); whether it took it. Bounded: a twin that does not answer
 /// within a second is taken as gone.
 pub fn set_dtr(control: &Path, high: bool) -> bool {
-    use std::io::{Read, Write};
-    let Ok(mut stream) = std::os::unix::net::UnixStream::connect(control) else {
-        return false;
-    };
-    let line: &[u8] = if high { b"dtr high\n" } else { b"dtr low\n" };
-    let mut reply = String::new();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(1)))
-        .is_ok()
-        && stream.write_all(line).is_ok()
-        && stream.read_to_string(&mut reply).is_ok()
-        && reply.starts_with("DTR ")
+    let line = if high { "dtr high" } else { "dtr low" };
+    ask(control, line, Duration::from_secs(1)).is_some_and(|reply| reply.starts_with("DTR "))
 }
 
 /// Time as a twin counts it: its emulated time, read over its control socket. `hostctl`
