@@ -1,7 +1,7 @@
 //! Ctrl-C and SIGTERM to the real `hostctl` binary during `run`: with its output going to
 //! a pipe, as to a log file, the `wait` it interrupts still prints its view, and it exits
 //! at once with status 130 (143 for SIGTERM) and says why; also while it waits for the
-//! master's banner. The rover is a scripted master on a pseudo-terminal that answers
+//! master's banner. During `watch`, Ctrl-C ends it after its round, the same way. The rover is a scripted master on a pseudo-terminal that answers
 //! every frame with zeros (every board running, no exception).
 
 use std::fs::File;
@@ -68,11 +68,12 @@ struct Stopped {
     reads_after: usize,
 }
 
-/// Runs `hostctl run` on a script of a 60-s wait against the scripted master and sends
-/// `signal` once `ready(reads so far, time since start)` says so.
+/// Runs `hostctl COMMAND` (with no command, `run` on a script of a 60-s wait) against the
+/// scripted master and sends `signal` once `ready(reads so far, time since start)` says so.
 fn run_and_signal(
     banner: bool,
     signal: Signal,
+    command: &[&str],
     ready: impl Fn(usize, Duration) -> bool,
 ) -> Stopped {
     let pty = openpty(None, None).unwrap();
@@ -88,9 +89,15 @@ fn run_and_signal(
     let name = format!("hostctl-signal-{}-{signal}.rover", std::process::id());
     let script = std::env::temp_dir().join(name);
     std::fs::write(&script, "wait 60\nsay after the wait\n").unwrap();
+    let script_text = script.display().to_string();
+    let run = ["run", script_text.as_str()];
     let child = Command::new(env!("CARGO_BIN_EXE_hostctl"))
-        .args(["--port", &path, "--settle-ms", "0", "run"])
-        .arg(&script)
+        .args(["--port", &path, "--settle-ms", "0"])
+        .args(if command.is_empty() {
+            &run[..]
+        } else {
+            command
+        })
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -132,7 +139,7 @@ fn into_the_wait(reads: usize, _: Duration) -> bool {
 
 #[test]
 fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
-    let s = run_and_signal(true, Signal::SIGINT, into_the_wait);
+    let s = run_and_signal(true, Signal::SIGINT, &[], into_the_wait);
     assert_stopped(
         &s,
         130,
@@ -157,7 +164,7 @@ fn ctrl_c_during_a_wait_to_a_pipe_prints_the_view_and_exits_130() {
 
 #[test]
 fn sigterm_stops_a_script_as_ctrl_c_does_with_status_143() {
-    let s = run_and_signal(true, Signal::SIGTERM, into_the_wait);
+    let s = run_and_signal(true, Signal::SIGTERM, &[], into_the_wait);
     assert_stopped(&s, 143, "stopped by SIGTERM during line 1 (`wait 60`)");
     assert_eq!(s.stdout.matches(" updates, ").count(), 1, "{}", s.stdout);
 }
@@ -165,7 +172,31 @@ fn sigterm_stops_a_script_as_ctrl_c_does_with_status_143() {
 #[test]
 fn ctrl_c_while_the_master_is_silent_stops_at_once() {
     // No banner: hostctl would wait 5 s for each line of it.
-    let s = run_and_signal(false, Signal::SIGINT, |_, t| t > Duration::from_millis(500));
+    let s = run_and_signal(false, Signal::SIGINT, &[], |_, t| {
+        t > Duration::from_millis(500)
+    });
     let says = "stopped by Ctrl-C while waiting for the master's banner";
     assert_stopped(&s, 130, says);
+}
+
+#[test]
+fn ctrl_c_during_a_watch_ends_it_after_its_round_with_status_130() {
+    let watch = [
+        "--json",
+        "watch",
+        "--readset",
+        "1",
+        "--device",
+        "3",
+        "--interval-ms",
+        "20",
+        "TIMER",
+    ];
+    let s = run_and_signal(true, Signal::SIGINT, &watch, |reads, _| reads >= 5);
+    assert_stopped(&s, 130, "stopped by Ctrl-C after round ");
+    // Its rounds, then the last JSON line says it was interrupted.
+    let last = s.stdout.lines().last().unwrap_or_default();
+    assert!(last.contains(r#""interrupted":"Ctrl-C""#), "{}", s.stdout);
+    assert!(s.stdout.contains(r#"{"round":5,"#), "{}", s.stdout);
+    assert!(s.reads_after <= 1, "{} reads after Ctrl-C", s.reads_after);
 }
