@@ -463,6 +463,16 @@ impl Program {
             .ok_or_else(|| format!("__heap_start {end:#x} lies below RAM"))
     }
 
+    /// The function whose code holds byte address `addr`, by its symbol name.
+    pub fn function_at(&self, addr: u32) -> Option<&str> {
+        let i = self
+            .functions
+            .partition_point(|f| f.start <= addr)
+            .checked_sub(1)?;
+        let f = &self.functions[i];
+        (addr < f.end).then_some(f.name.as_str())
+    }
+
     /// The vectors with a handler of their own: (number, handler's name).
     pub fn vectors(&self) -> Vec<(u8, &str)> {
         self.vectors
@@ -568,6 +578,18 @@ mod tests {
     fn a_function_costs_its_pushes_and_its_frame() {
         // leaf: two pushes and a frame of 108 bytes.
         assert_eq!(program().depth("leaf"), Ok(110));
+    }
+
+    #[test]
+    fn an_address_is_named_by_the_function_that_holds_it() {
+        let p = program();
+        assert_eq!(p.function_at(0x100), Some("main"));
+        assert_eq!(p.function_at(0x109), Some("main"));
+        assert_eq!(p.function_at(0x10a), Some("leaf"));
+        // Before the first function, and in the table (an object, not code).
+        assert_eq!(p.function_at(0x68), None);
+        // Past the last function's end.
+        assert_eq!(p.function_at(0x124), None);
     }
 
     #[test]

@@ -53,11 +53,20 @@ struct Tracker {
     /// the PC where it ended.
     off_since: Option<u64>,
     longest_off: (u64, u32),
+    /// The control tick's exclusive cycles by the byte address of the instruction that
+    /// spent them (its interrupt entry included).
+    tick_pcs: HashMap<u32, u64>,
+    /// The address and the cycle count before the step in progress.
+    last: (u32, u64),
 }
 
 impl Tracker {
     /// After each step of `avr`.
     fn after_step(&mut self, avr: &mut Avr) {
+        let (last_pc, last_cycles) = self.last;
+        if self.frames.last().is_some_and(|f| f.0 == TIMER0_COMPB) {
+            *self.tick_pcs.entry(last_pc).or_default() += avr.cycles() - last_cycles;
+        }
         let now_sp = sp(avr);
         while let Some(&(v, s, at, nested)) = self.frames.last() {
             if now_sp < s + 2 {
@@ -87,6 +96,7 @@ impl Tracker {
             }
             _ => {}
         }
+        self.last = (at, avr.cycles());
     }
 }
 
@@ -427,8 +437,9 @@ fn highest_encoder_rate_without_a_lost_edge() {
 
 /// The control task's exclusive cycles per tick over `ms` of emulated time with the
 /// plant closing the loop, so the motors really move; `between(rig, i)` runs before
-/// millisecond `i` (demands sent over the bus are part of the run).
-fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64)) -> Vec<u64> {
+/// millisecond `i` (demands sent over the bus are part of the run). Returns the tracker
+/// of the run, whose `runs` hold the ticks.
+fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64)) -> Tracker {
     let tracker = Rc::new(RefCell::new(Tracker::default()));
     let t = Rc::clone(&tracker);
     r.avr()
@@ -438,8 +449,52 @@ fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64))
         r.run_us(1_000);
     }
     r.avr().clear_observer();
-    let runs = tracker.borrow_mut().runs.remove(&TIMER0_COMPB);
-    runs.unwrap_or_default()
+    tracker.take()
+}
+
+/// The control tick's mean cycles by the function that spent them, largest first, the
+/// functions below `shown` together as "others": where a tick's cycles go. A function
+/// is named by its path without its crate's hash; code inlined into it counts as its.
+fn tick_by_function(tracker: &Tracker, image: &str, shown: usize) -> Vec<(String, u64)> {
+    let program = Program::of_elf(&firmware_path(image)).expect("the image's symbols");
+    let ticks = tracker.runs.get(&TIMER0_COMPB).map_or(0, Vec::len).max(1) as u64;
+    let mut by_name: HashMap<String, u64> = HashMap::new();
+    for (&pc, &cycles) in &tracker.tick_pcs {
+        let name = match program.function_at(pc) {
+            Some("__vector_15") => "the tick's vector, with all inlined into it".to_string(),
+            Some(n) => format!("{:#}", rustc_demangle::demangle(n)),
+            None => format!("{pc:#06x}"),
+        };
+        *by_name.entry(name).or_default() += cycles;
+    }
+    let mut all: Vec<(String, u64)> = by_name.into_iter().collect();
+    all.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+    let others: u64 = all.iter().skip(shown).map(|(_, c)| c).sum();
+    all.truncate(shown);
+    all.push(("others".to_string(), others));
+    all.into_iter().map(|(n, c)| (n, c / ticks)).collect()
+}
+
+/// Prints a breakdown of [`tick_by_function`], and checks that it accounts for every
+/// cycle of the ticks the tracker timed: the sum of its means is their mean, to within
+/// the rounding of each line.
+fn show_breakdown(tracker: &Tracker, image: &str) {
+    let lines = tick_by_function(tracker, image, 8);
+    println!("  where a tick's cycles go (mean per tick, by function):");
+    for (name, cycles) in &lines {
+        println!("    {cycles:>5}  {name}");
+    }
+    let runs = tracker
+        .runs
+        .get(&TIMER0_COMPB)
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    let (_, mean, _) = run_stats(runs);
+    let sum: u64 = lines.iter().map(|(_, c)| c).sum();
+    assert!(
+        sum <= mean && mean - sum <= lines.len() as u64 + 1,
+        "the breakdown sums to {sum}, the ticks' mean is {mean}"
+    );
 }
 
 #[test]
@@ -458,7 +513,7 @@ fn drive_steer_costs_while_steering() {
     // moving (and its controller working) for the whole 450 ms.
     let mut travelled = 0.0;
     let mut last = steer(&r);
-    let runs = ticks_in_motion(&mut r, 450, |r, i| {
+    let tracker = ticks_in_motion(&mut r, 450, |r, i| {
         if i % 150 == 0 {
             let to = if (i / 150) % 2 == 0 { 30.0 } else { -30.0 };
             r.write_value(id::REGDS_STEER_REQPOS, to);
@@ -467,9 +522,15 @@ fn drive_steer_costs_while_steering() {
         travelled += (now - last).abs();
         last = now;
     });
-    let (n, mean, max) = run_stats(&runs);
+    let runs = tracker
+        .runs
+        .get(&TIMER0_COMPB)
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    let (n, mean, max) = run_stats(runs);
     println!("control tick, drive at 1000 and the steer swinging: {n} runs, mean {mean}, max {max} cycles");
     println!("  the steer travelled {travelled:.0} degrees in 450 ms");
+    show_breakdown(&tracker, "slave-drive");
     assert!(
         travelled > 10.0,
         "the steer hardly moved: {travelled:.1} degrees"
@@ -498,7 +559,7 @@ fn lift_lift_costs_while_lifting() {
     };
     let start = lifts(&r);
     // Both lifts swing between -20 and +20 degrees, in opposite directions.
-    let runs = ticks_in_motion(&mut r, 450, |r, i| {
+    let tracker = ticks_in_motion(&mut r, 450, |r, i| {
         if i % 150 == 0 {
             let to = if (i / 150) % 2 == 0 { 20.0 } else { -20.0 };
             r.write_value(id::REGLL_ONE_REQPOS, to);
@@ -506,8 +567,14 @@ fn lift_lift_costs_while_lifting() {
         }
     });
     let end = lifts(&r);
-    let (n, mean, max) = run_stats(&runs);
+    let runs = tracker
+        .runs
+        .get(&TIMER0_COMPB)
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    let (n, mean, max) = run_stats(runs);
     println!("control tick, both lifts moving: {n} runs, mean {mean}, max {max} cycles");
+    show_breakdown(&tracker, "slave-lift");
     println!(
         "  lift ONE {:.1} -> {:.1} degrees, TWO {:.1} -> {:.1}",
         start.0, end.0, start.1, end.1
