@@ -10,7 +10,10 @@
 //! wheel 1, stop) and checks the live view it prints against what the rover should be
 //! doing, so the demo shows real output of the emulated firmware. The third runs a script
 //! with `--pairs 0` on a twin whose pairs 1 and 2 are off the bus from power-up, as on a
-//! bench with the rear pair (wheels 1 and 2) alone. (The tests live in one file so they run in parallel.)
+//! bench with the rear pair (wheels 1 and 2) alone. The fourth runs `examples/step.rover`
+//! with `--json`: a steer step recorded by `watch 2 0`, a view at every update, as a
+//! researcher tuning a controller would.
+//! (The tests live in one file so they run in parallel.)
 //!
 //! NEEDS THE REAL SLAVE IMAGES: with stub slaves nothing answers on the bus and the first
 //! configuration of a read set fails.
@@ -171,7 +174,7 @@ fn words_after<'a>(text: &'a str, marker: &str, wheel: u8) -> Vec<&'a str> {
 
 /// Runs `plan` with hostctl's `run` code on `twin`, as the binary does after opening its
 /// port; returns what it printed (also echoed) and the clock, at the script's end.
-fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan) -> (String, EmuClock) {
+fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan, json: bool) -> (String, EmuClock) {
     let port = EmuPort::new(Rc::clone(twin));
     let mut link = Link::connect(port, "the twin", Duration::ZERO).unwrap();
     let mut clock = EmuClock::new(Rc::clone(twin));
@@ -184,7 +187,7 @@ fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan) -> (String, EmuCloc
         &mut Output {
             out: &mut out,
             in_place: false,
-            json: false,
+            json,
             width: || None,
         },
     );
@@ -203,7 +206,7 @@ fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
     })
     .unwrap();
     let twin = Rc::new(RefCell::new(rover()));
-    let (text, clock) = run_on(&twin, &plan);
+    let (text, clock) = run_on(&twin, &plan, false);
     println!(
         "demo: {:.1} s of emulated time, twin speed {:.2}x real time",
         clock.now().as_secs_f64(),
@@ -269,7 +272,7 @@ fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
     for n in 4..=9 {
         twin.borrow_mut().cut(n).unwrap();
     }
-    let (text, _) = run_on(&twin, &plan);
+    let (text, _) = run_on(&twin, &plan, false);
     // The last view: wheels 1 and 2 at 1000, no row for the others, no exception (the
     // master counts controllers that never answered as absent, not silent).
     let tail = &text[text.rfind("> watch 6").unwrap()..];
@@ -285,4 +288,77 @@ fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
         "{last}"
     );
     assert!(last.contains("master: no exception"), "{last}");
+}
+
+#[test]
+fn a_steer_step_is_recorded_at_the_links_full_rate() {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/step.rover");
+    let plan = run::plan(&run::Args {
+        file,
+        pairs: "0,1,2".into(),
+    })
+    .unwrap();
+    let twin = Rc::new(RefCell::new(rover()));
+    let (text, _) = run_on(&twin, &plan, true);
+    // (elapsed s, wheel 1's steer actual) of each view the `watch` line printed.
+    let number = |line: &str, key: &str| -> f64 {
+        let rest = &line[line.find(key).unwrap_or_else(|| panic!("{key} in {line}")) + key.len()..];
+        let end = rest.find([',', '}']).unwrap();
+        rest[..end].parse().unwrap()
+    };
+    let views: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with(r#"{"command":"run","line":13,"elapsed_s""#))
+        .collect();
+    let series: Vec<(f64, f64)> = views
+        .iter()
+        .map(|l| {
+            let wheel = &l[l.find(r#"{"wheel":1,"#).unwrap()..];
+            let steer = &wheel[wheel.find(r#""steer":"#).unwrap()..];
+            assert_eq!(number(steer, r#""required":"#), 40.0, "{l}");
+            (number(l, r#""elapsed_s":"#), number(steer, r#""actual":"#))
+        })
+        .collect();
+    // The `show` line's registers in each view: the controller's duty and error.
+    let shown = |l: &str, register: &str| {
+        let at = l.find(&format!(r#""register":"{register}""#)).unwrap();
+        number(&l[at..], r#""value":"#)
+    };
+    for (l, &(_, actual)) in views.iter().zip(&series) {
+        // Read after the round that read the actual, some 45 ms later: the steer, turning
+        // at up to ~65°/s towards 40, has then closed up to 3° more of the gap.
+        let error = shown(l, "REGDS_STEER_ERROR");
+        let gap = 40.0 - actual;
+        assert!(error <= gap + 0.5 && error >= gap - 3.5, "{l}");
+    }
+    assert_eq!(
+        shown(views[1], "REGDS_STEER_CONTROL"),
+        255.0,
+        "full duty at first"
+    );
+    let (first, last) = (series[0], series[series.len() - 1]);
+    println!(
+        "{} views in {:.2} s; steer {:.1} -> {:.1}",
+        series.len(),
+        last.0,
+        first.1,
+        last.1
+    );
+    // One view per update: the link's rate, some 20 a second, where `watch 2` alone
+    // prints three.
+    assert!(series.len() >= 30, "{series:?}");
+    assert!(series.windows(2).all(|w| w[1].0 > w[0].0), "{series:?}");
+    assert!((last.0 - 2.0).abs() < 0.1, "{series:?}");
+    // The step itself, from near 0 to 40 within 2°, with the swing in between sampled
+    // (more than five views between 10 % and 90 % of the way).
+    assert!(first.1.abs() < 8.0, "{series:?}");
+    assert!((last.1 - 40.0).abs() <= 2.0, "{series:?}");
+    let rising = series
+        .iter()
+        .filter(|&&(_, a)| {
+            a > first.1 + 0.1 * (40.0 - first.1) && a < first.1 + 0.9 * (40.0 - first.1)
+        })
+        .count();
+    println!("{rising} views between 10 % and 90 % of the step");
+    assert!(rising > 5, "{rising} views on the way: {series:?}");
 }

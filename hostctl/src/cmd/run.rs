@@ -199,8 +199,6 @@ impl Clock for WallClock {
 pub const TICK: Duration = Duration::from_millis(10);
 /// How often the in-place view is redrawn.
 pub const REDRAW: Duration = Duration::from_millis(200);
-/// How often `watch` prints a view.
-pub const LOG_EVERY: Duration = Duration::from_secs(1);
 /// The pause before each write that takes a board out of its exception: two of the
 /// board's 1-ms ticks, so that no demand sent before it reaches the board in the reset's
 /// tick (see the note where it is used).
@@ -756,8 +754,8 @@ fn act<P: Port>(
             writeln!(output.out, "{}", say.finish()).map_err(HostError::Output)?;
         }
         Action::Say(text) => writeln!(output.out, "{text}").map_err(HostError::Output)?,
-        Action::Live { time, log } => {
-            live(*time, *log, link, clock, poller, line, session, output)?
+        Action::Live { time, every } => {
+            live(*time, *every, link, clock, poller, line, session, output)?
         }
     }
     Ok(())
@@ -774,12 +772,13 @@ fn say_note(note: &str, line: &Line, output: &mut Output<'_>) -> Result<(), Host
     .map_err(HostError::Output)
 }
 
-/// Polls update() for `time`, showing the view: redrawn in place on a terminal; otherwise
-/// once at the end (`wait`) or once a second (`watch`).
+/// Polls update() for `time`, showing the view: for `wait` (`every` None) redrawn in place
+/// on a terminal, otherwise once at the end; for `watch` printed every `every` (a log; zero:
+/// every update), and at the end.
 #[allow(clippy::too_many_arguments)]
 fn live<P: Port>(
     time: Duration,
-    log: bool,
+    every: Option<Duration>,
     link: &mut Link<P>,
     clock: &mut dyn Clock,
     poller: &Poller,
@@ -788,10 +787,11 @@ fn live<P: Port>(
     output: &mut Output<'_>,
 ) -> Result<(), HostError> {
     let start = clock.now();
+    let log = every.is_some();
     let mut screen = Screen::new(output.in_place && !log, output.width);
     let mut updates = 0u64;
     let mut next_draw = start;
-    let period = if log { LOG_EVERY } else { REDRAW };
+    let period = every.unwrap_or(REDRAW);
     // The newest view not drawn yet: a link that fails draws it before its error, so that
     // output sent to a file keeps the rover's last known state.
     let mut undrawn: Option<Frame> = None;
@@ -1946,6 +1946,28 @@ write 4 reset 2
         // Notepad's "Unicode": UTF-16 with its byte-order mark.
         let err = script_text(b"\xff\xfer\x00e\x00".to_vec()).unwrap_err();
         assert!(err.starts_with("the script is UTF-16"), "{err}");
+    }
+
+    #[test]
+    fn watch_prints_a_view_as_often_as_its_line_says() {
+        // The elapsed time of each view printed (JSON lines), on the fake clock: one
+        // update() every 10 ms.
+        let views = |script: &str| -> Vec<f32> {
+            let ran = run_script(script, &updates(200), true);
+            ran.result.unwrap();
+            ran.text
+                .lines()
+                .filter_map(|l| l.split_once(r#""elapsed_s":"#))
+                .map(|(_, rest)| rest.split(',').next().unwrap().parse().unwrap())
+                .collect()
+        };
+        // Once a second by default, and at the end.
+        assert_eq!(views("watch 1\n"), [0.0, 1.0]);
+        assert_eq!(views("watch 1 0.25\n"), [0.0, 0.25, 0.5, 0.75, 1.0]);
+        // 0: every update.
+        assert_eq!(views("watch 0.05 0\n"), [0.0, 0.01, 0.02, 0.03, 0.04, 0.05]);
+        // A `wait` to a file: its last view only.
+        assert_eq!(views("wait 1\n"), [1.0]);
     }
 
     #[test]

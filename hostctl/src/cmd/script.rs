@@ -15,7 +15,7 @@
 //! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
 //! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s. A board still running then (its DISABLEDEXCEPTIONS masks REMOTESLAVE) fails the line, named |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual), redrawn in place; to a file or pipe, the last view only, when it ends |
-//! | `watch SECONDS` | Like `wait`, printing the view once a second (a log) |
+//! | `watch SECONDS [EVERY]` | Like `wait`, printing the view every EVERY seconds (a log; 1 by default, 0 for every update: a step response at the link's full rate) |
 //! | `show DEV REG…` | Add up to 24 registers of device DEV to every later live view (read sets 3..6: at most four different register lists, as lines naming the same registers share a set) |
 //! | `say TEXT` | Print TEXT (up to a comment) |
 //!
@@ -40,13 +40,13 @@ use crate::resolve::{self, Target};
 pub enum Action {
     /// A frame or a pause of the library.
     Op(Op),
-    /// Poll and show the live view for a while; `log` prints a view every second instead of
-    /// redrawing one.
+    /// Poll and show the live view for a while.
     Live {
         /// How long.
         time: Duration,
-        /// Print one view per second.
-        log: bool,
+        /// `None` for `wait` (the view redrawn in place, or drawn once at the end); for
+        /// `watch`, the time between two printed views (a log), zero for every update.
+        every: Option<Duration>,
     },
     /// The end of a `stop`: each controller its REG_EXCEPTIONDATA write left in
     /// REMOTESLAVE leaves it again (REG_RESET bit 0), found by one update().
@@ -458,7 +458,7 @@ impl From<HostError> for Why {
 }
 
 const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
-steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS | \
+steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS [EVERY] | \
 show DEV REG… | say TEXT";
 
 fn number(word: &str) -> Result<f32, Why> {
@@ -479,8 +479,19 @@ fn wheels(word: &str, pairs: Pairs, usage: &'static str) -> Result<Vec<u8>, Why>
     }
 }
 
+/// How often `watch` prints a view when its line does not say.
+pub const WATCH_EVERY: Duration = Duration::from_secs(1);
+
+const WATCH_USAGE: &str = "watch SECONDS [EVERY]   (0..3600; a view every EVERY seconds, \
+1 by default, 0 for every update)";
+
 fn seconds(word: &str, usage: &'static str) -> Result<Duration, Why> {
-    let s = f64::from(number(word).map_err(|_| Why::Usage(usage))?);
+    // Parsed as f64, so that `0.05` is 50 ms, not the f32 nearest to it.
+    let s = word
+        .parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite())
+        .ok_or(Why::Usage(usage))?;
     if !(0.0..=MAX_SECONDS).contains(&s) {
         return Err(Why::Usage(usage));
     }
@@ -594,13 +605,18 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
         ["turn", ..] => Err(Why::Usage("turn DEG")),
         ["wait", s] => Ok(vec![Action::Live {
             time: seconds(s, "wait SECONDS   (0..3600)")?,
-            log: false,
+            every: None,
         }]),
         ["watch", s] => Ok(vec![Action::Live {
-            time: seconds(s, "watch SECONDS   (0..3600)")?,
-            log: true,
+            time: seconds(s, WATCH_USAGE)?,
+            every: Some(WATCH_EVERY),
         }]),
-        ["wait" | "watch", ..] => Err(Why::Usage("wait|watch SECONDS   (0..3600)")),
+        ["watch", s, every] => Ok(vec![Action::Live {
+            time: seconds(s, WATCH_USAGE)?,
+            every: Some(seconds(every, WATCH_USAGE)?),
+        }]),
+        ["wait", ..] => Err(Why::Usage("wait SECONDS   (0..3600)")),
+        ["watch", ..] => Err(Why::Usage(WATCH_USAGE)),
         ["reset" | "calibrate" | "stop", ..] => Err(Why::Text(format!(
             "`{}` takes no argument: it acts on every fitted board (to reset one board, \
              `write DEV reset 1`)",
@@ -859,12 +875,47 @@ mod tests {
             lines[4].actions,
             [Action::Live {
                 time: Duration::from_millis(500),
-                log: false
+                every: None
             }]
         );
         assert_eq!(lines[5].actions, [Action::Say("done".into())]);
         assert_eq!(lines[5].pc.demand(1, Motor::Lift), Some(20.0));
         assert_eq!(lines[5].pc.demand(5, Motor::Steer), Some(-40.0));
+    }
+
+    #[test]
+    fn watch_prints_a_view_every_second_or_as_often_as_its_line_says() {
+        let live = |text: &str| parse("s", text).unwrap()[0].actions.clone();
+        let watch = |time: u64, every: Option<u64>| {
+            vec![Action::Live {
+                time: Duration::from_millis(time),
+                every: every.map(Duration::from_millis),
+            }]
+        };
+        assert_eq!(live("watch 3"), watch(3_000, Some(1_000)));
+        assert_eq!(live("watch 3 0.05"), watch(3_000, Some(50)));
+        // 0: a view at every update, for a step response at the link's full rate.
+        assert_eq!(live("watch 2 0"), watch(2_000, Some(0)));
+        assert_eq!(live("wait 2"), watch(2_000, None));
+        let usage = "usage: watch SECONDS [EVERY]   (0..3600; a view every EVERY seconds, 1 by \
+                     default, 0 for every update)";
+        for bad in [
+            "watch",
+            "watch 3 -1",
+            "watch 3 fast",
+            "watch 3 4000",
+            "watch 3 1 2",
+        ] {
+            assert_eq!(
+                refusal(bad),
+                format!("demo.rover line 1 (`{bad}`): {usage}"),
+                "{bad}"
+            );
+        }
+        assert_eq!(
+            refusal("wait 3 1"),
+            "demo.rover line 1 (`wait 3 1`): usage: wait SECONDS   (0..3600)"
+        );
     }
 
     #[test]
