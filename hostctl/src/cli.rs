@@ -83,7 +83,7 @@ pub enum Command {
     /// then the library's emergency stop: gains and demands 0; a board that ignores it
     /// fails the line), wait SECONDS (a live view of
     /// required against actual per wheel, redrawn in place; to a file or pipe, the last
-    /// view only, when it ends or Ctrl-C stops it), watch SECONDS [EVERY] (the same view
+    /// view only, when it ends or Ctrl-C stops it), `watch SECONDS [EVERY]` (the same view
     /// kept as a log, one every EVERY seconds, 1 by default, 0 for every update: for a
     /// record that survives a killed run, or a step response at the link's full rate), show DEV REG… (adds registers, e.g. `show 1
     /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a

@@ -191,7 +191,7 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// `calibrate` line (the gains stay 0, so nothing moves), a demand after a `stop` before
 /// the next `calibrate` (the stop sets the gains to 0), or a last demand with no `wait`
 /// or `watch` after it (the script's end reboots the rover at once), and demands a `stop`
-/// or a `calibrate` leaves without effect ([`stop_and_calibrate_notes`]).
+/// or a `calibrate` leaves without effect (see `stop_and_calibrate_notes`).
 pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> String {
         command_word(&l.text)
