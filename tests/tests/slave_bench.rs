@@ -61,6 +61,14 @@ struct Tracker {
 }
 
 impl Tracker {
+    /// The control task's finished runs (exclusive cycles each).
+    fn ticks(&self) -> &[u64] {
+        self.runs
+            .get(&TIMER0_COMPB)
+            .map(Vec::as_slice)
+            .unwrap_or_default()
+    }
+
     /// After each step of `avr`.
     fn after_step(&mut self, avr: &mut Avr) {
         let (last_pc, last_cycles) = self.last;
@@ -457,7 +465,7 @@ fn ticks_in_motion(r: &mut Rig, ms: u64, mut between: impl FnMut(&mut Rig, u64))
 /// is named by its path without its crate's hash; code inlined into it counts as its.
 fn tick_by_function(tracker: &Tracker, image: &str, shown: usize) -> Vec<(String, u64)> {
     let program = Program::of_elf(&firmware_path(image)).expect("the image's symbols");
-    let ticks = tracker.runs.get(&TIMER0_COMPB).map_or(0, Vec::len).max(1) as u64;
+    let ticks = tracker.ticks().len().max(1) as u64;
     let mut by_name: HashMap<String, u64> = HashMap::new();
     for (&pc, &cycles) in &tracker.tick_pcs {
         let name = match program.function_at(pc) {
@@ -484,11 +492,7 @@ fn show_breakdown(tracker: &Tracker, image: &str) {
     for (name, cycles) in &lines {
         println!("    {cycles:>5}  {name}");
     }
-    let runs = tracker
-        .runs
-        .get(&TIMER0_COMPB)
-        .map(Vec::as_slice)
-        .unwrap_or_default();
+    let runs = tracker.ticks();
     let (_, mean, _) = run_stats(runs);
     let sum: u64 = lines.iter().map(|(_, c)| c).sum();
     assert!(
@@ -522,11 +526,7 @@ fn drive_steer_costs_while_steering() {
         travelled += (now - last).abs();
         last = now;
     });
-    let runs = tracker
-        .runs
-        .get(&TIMER0_COMPB)
-        .map(Vec::as_slice)
-        .unwrap_or_default();
+    let runs = tracker.ticks();
     let (n, mean, max) = run_stats(runs);
     println!("control tick, drive at 1000 and the steer swinging: {n} runs, mean {mean}, max {max} cycles");
     println!("  the steer travelled {travelled:.0} degrees in 450 ms");
@@ -567,11 +567,7 @@ fn lift_lift_costs_while_lifting() {
         }
     });
     let end = lifts(&r);
-    let runs = tracker
-        .runs
-        .get(&TIMER0_COMPB)
-        .map(Vec::as_slice)
-        .unwrap_or_default();
+    let runs = tracker.ticks();
     let (n, mean, max) = run_stats(runs);
     println!("control tick, both lifts moving: {n} runs, mean {mean}, max {max} cycles");
     show_breakdown(&tracker, "slave-lift");

@@ -197,16 +197,25 @@ fn run_on(twin: &Rc<RefCell<twin::Rover>>, plan: &run::Plan, json: bool) -> (Str
     (text, clock)
 }
 
-#[test]
-fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
-    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/demo.rover");
+/// Runs `examples/NAME` on a new twin, all six wheels fitted; returns what it printed, the
+/// clock and the twin.
+fn run_example(name: &str, json: bool) -> (String, EmuClock, Rc<RefCell<twin::Rover>>) {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples")
+        .join(name);
     let plan = run::plan(&run::Args {
         file,
         pairs: "0,1,2".into(),
     })
     .unwrap();
     let twin = Rc::new(RefCell::new(rover()));
-    let (text, clock) = run_on(&twin, &plan, false);
+    let (text, clock) = run_on(&twin, &plan, json);
+    (text, clock, twin)
+}
+
+#[test]
+fn the_demo_script_drives_the_twin_and_its_view_shows_it() {
+    let (text, clock, twin) = run_example("demo.rover", false);
     println!(
         "demo: {:.1} s of emulated time, twin speed {:.2}x real time",
         clock.now().as_secs_f64(),
@@ -292,14 +301,7 @@ fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
 
 #[test]
 fn a_steer_step_is_recorded_at_the_links_full_rate() {
-    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../examples/step.rover");
-    let plan = run::plan(&run::Args {
-        file,
-        pairs: "0,1,2".into(),
-    })
-    .unwrap();
-    let twin = Rc::new(RefCell::new(rover()));
-    let (text, _) = run_on(&twin, &plan, true);
+    let (text, _, _) = run_example("step.rover", true);
     // (elapsed s, wheel 1's steer actual) of each view the `watch` line printed.
     let number = |line: &str, key: &str| -> f64 {
         let rest = &line[line.find(key).unwrap_or_else(|| panic!("{key} in {line}")) + key.len()..];
