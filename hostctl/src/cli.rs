@@ -85,8 +85,9 @@ pub enum Command {
     /// required against actual per wheel, redrawn in place; to a file or pipe, the last
     /// view only, when it ends or Ctrl-C stops it), `watch SECONDS [EVERY]` (the same view
     /// kept as a log, one every EVERY seconds, 1 by default, 0 for every update: for a
-    /// record that survives a killed run, or a step response at the link's full rate), show DEV REG… (adds registers, e.g. `show 1
-    /// drive_control drive_error`, to every later view), say TEXT. A comment starts at a
+    /// record that survives a killed run, or a step response at the link's full rate),
+    /// show DEV REG… (adds registers, e.g. `show 1 drive_control drive_error`, to every
+    /// later view), say TEXT. A comment starts at a
     /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
     /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
     /// sent. drive, steer, lift and turn are checked against the library's limits (steer

@@ -12,7 +12,8 @@
 //! With `--json` every printed thing is one JSON object per line, each with
 //! `"command":"run"`: the start (`script`, `lines`), each line as it starts (`line`,
 //! `text`), what a `say` line says (`line`, `say`), and each view (`line`, `elapsed_s`
-//! since the line began, taken as the view's update() round ends, `updates`, `rate`, `wheels` with required (null: none sent this session), actual,
+//! since the line began, taken as the view's update() round ends, `updates`, `rate`,
+//! `wheels` with required (null: none sent this session), actual,
 //! calibrated, `at_limit` ("lower" or "upper", only when actual reads at its range's end,
 //! which holds any value beyond it) and `exception` per motor (its board's, taken apart: type, name, the motor
 //! it names and that motor's wheel, text; null: none; a board in exception stops both its
