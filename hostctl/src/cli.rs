@@ -79,31 +79,31 @@ pub enum Command {
     /// master, so a sequence belongs in one session): reset, calibrate (the library's
     /// calibrate() with every running board stopped meanwhile: each steer and lift then
     /// holds where it stands on the new calibration, each drive aims for 0), write DEV REG
-    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, stop (every motor unpowered at once,
-    /// then the library's emergency stop: gains and demands 0; a board that ignores it
-    /// fails the line), wait SECONDS (a live view of
-    /// required against actual per wheel, redrawn in place; to a file or pipe, the last
-    /// view only, when it ends or Ctrl-C stops it), `watch SECONDS [EVERY]` (the same view
-    /// kept as a log, one every EVERY seconds, 1 by default, 0 for every update: for a
-    /// record that survives a killed run, or a step response at the link's full rate),
-    /// show DEV REG… (adds registers, e.g. `show 1 drive_control drive_error`, to every
-    /// later view), say TEXT. A comment starts at a
-    /// `#` that begins the line or stands alone after a space (`drive all 100 # forward`;
-    /// `say Wheel #1` prints `Wheel #1`). The whole script is checked before anything is
-    /// sent. drive, steer, lift and turn are checked against the library's limits (steer
-    /// and lift: the calibration less 10°); `write` only against the register's range, as
-    /// the original library checks its own register writes. The rover stops when the
-    /// script ends (closing the port reboots it), so end with `wait` for a demand to act.
-    /// The first write waits until 5 s after the master's banner, when the master starts
-    /// watching the controllers.
+    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, pointturn then rotate SPEED (the
+    /// operator's `pt` and `rot`: the rover turns on the spot), stop (every motor unpowered
+    /// at once, then the library's emergency stop: gains and demands 0; a board that
+    /// ignores it fails the line), wait SECONDS (a live view of required against actual per
+    /// wheel, redrawn in place; to a file or pipe, the last view only, when it ends or
+    /// Ctrl-C stops it), `watch SECONDS [EVERY]` (the same view kept as a log, one every
+    /// EVERY seconds, 1 by default, 0 for every update: for a record that survives a killed
+    /// run, or a step response at the link's full rate), show DEV REG… (adds registers,
+    /// e.g. `show 1 drive_control drive_error`, to every later view), say TEXT. A comment
+    /// starts at a `#` that begins the line or stands alone after a space (`drive all 100 #
+    /// forward`; `say Wheel #1` prints `Wheel #1`). The whole script is checked before
+    /// anything is sent. drive, steer, lift, turn, pointturn and rotate are checked against
+    /// the library's limits (steer and lift: the calibration less 10°); `write` only
+    /// against the register's range, as the original library checks its own register
+    /// writes. The rover stops when the script ends (closing the port reboots it), so end
+    /// with `wait` for a demand to act. The first write waits until 5 s after the master's
+    /// banner, when the master starts watching the controllers.
     /// Ctrl-C (or SIGTERM) stops the script after the line in progress (a `wait` or `watch`
     /// ends at once, drawing its view once more; a `calibrate` leaves the boards it stopped
     /// stopped), also while hostctl waits for the master or the twin, and hostctl closes
     /// the port, which stops the rover; a second one ends hostctl at once.
     /// Exit status 3: the script ran to its end with the rover stopped (a board in an
-    /// exception other than its boot state, or a controller not answering, at the last
-    /// view or at one more update() when frames went out after it); 130: stopped by Ctrl-C;
-    /// 143: by SIGTERM.
+    /// exception other than its boot state, or a controller not answering, at the last view
+    /// or at one more update() when frames went out after it); 130: stopped by Ctrl-C; 143:
+    /// by SIGTERM.
     Run(cmd::run::Args),
 }
 

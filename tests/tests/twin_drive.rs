@@ -300,6 +300,41 @@ fn a_bench_with_the_front_pair_alone_drives_with_pairs_0() {
 }
 
 #[test]
+fn a_point_turn_then_a_rotation_turns_every_wheel_round_the_centre() {
+    let (text, _, _) = run_example("spin.rover", false);
+    // [drive req, actual, steer req, actual, lift req, actual]
+    let point_turn = [-46.0, 46.0, 0.0, 0.0, 46.0, -46.0];
+    // The operator's `rot 500`: right-side corners back, left forward, the middle wheels
+    // at 1/1.8 of that.
+    let speed = [-500.0, 500.0, -500.0 / 1.8, 500.0 / 1.8, -500.0, 500.0];
+    for w in 1..=6u8 {
+        let i = usize::from(w - 1);
+        let r = row_after(&text, "> pointturn", w);
+        assert_eq!(r[2], point_turn[i], "wheel {w}: {r:?}");
+        assert!(
+            (r[3] - point_turn[i]).abs() <= 2.0,
+            "wheel {w} steer: {r:?}"
+        );
+        let r = row_after(&text, "> rotate 500", w);
+        assert!((r[0] - speed[i]).abs() < 0.5, "wheel {w}: {r:?}");
+        assert!(
+            (r[1] - speed[i]).abs() <= 0.05 * speed[i].abs(),
+            "wheel {w} drive: {r:?}"
+        );
+        // The steers held their angles while the wheels turned.
+        assert!(
+            (r[3] - point_turn[i]).abs() <= 2.0,
+            "wheel {w} steer: {r:?}"
+        );
+        // `rotate 0` sends 0 to each (shown as 0, not -0), and the wheels slow to within 5 %
+        // of the rotation's speed.
+        assert_eq!(words_after(&text, "> rotate 0", w)[0], "0");
+        let r = row_after(&text, "> rotate 0", w);
+        assert!(r[1].abs() <= 25.0, "wheel {w} stopped: {r:?}");
+    }
+}
+
+#[test]
 fn a_steer_step_is_recorded_at_the_links_full_rate() {
     let (text, _, _) = run_example("step.rover", true);
     // (elapsed s, wheel 1's steer actual) of each view the `watch` line printed.

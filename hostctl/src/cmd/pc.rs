@@ -439,7 +439,9 @@ impl Pc {
     /// Records `value` as the demand of `motor` of `wheel`.
     fn record_demand(&mut self, wheel: u8, motor: Motor, value: f32) {
         let (w, m) = (usize::from(wheel - 1), motor.index());
-        self.demands[w][m] = Some(value);
+        // -0 (`turn 0` sends -0 to wheels 5 and 6, `steer 1 -0` to wheel 1) is recorded as
+        // 0, the same raw value, so that a view never prints "-0".
+        self.demands[w][m] = Some(value + 0.0);
         self.sends[w][m] = self.sends[w][m].wrapping_add(1);
     }
 

@@ -12,6 +12,8 @@
 //! | `drive W\|all SPEED` | Drive speed demand (ticks/s) on wheel W or all six |
 //! | `steer W\|all DEG` | Steer demand (°) on wheel W or all six |
 //! | `turn DEG` | Wheels 1, 2 steer +DEG, 5, 6 −DEG, 3, 4 0 (the operator's `t`) |
+//! | `pointturn` | Steers of wheels 1..6 to −46°, 46°, 0°, 0°, 46°, −46°: each wheel across the line to the rover's centre, ready to `rotate` (the operator's `pt`) |
+//! | `rotate SPEED` | Drives of wheels 1, 5 (right) at −SPEED, 2, 6 (left) at +SPEED, 3 at −SPEED/1.8, 4 at +SPEED/1.8 (ticks/s; the middle wheels are nearer the centre): the rover turns on the spot once the steers stand at `pointturn`'s angles (the operator's `rot`) |
 //! | `lift W\|all DEG` | Lift demand (°) on wheel W or all six |
 //! | `stop` | Every bridge off at once (REG_EXCEPTIONDATA to each controller), then the operator's emergency stop (§10.3: 36 frames, every demand 0, the gains 0), then each board this stop sent into REMOTESLAVE leaves it (REG_RESET 1): the drives coast unpowered, where the library's stop alone leaves them decaying under power for some 20 s. A board still running then (its DISABLEDEXCEPTIONS masks REMOTESLAVE) fails the line, named |
 //! | `wait SECONDS` | Let time pass, showing the live view (required vs actual), redrawn in place; to a file or pipe, the last view only, when it ends |
@@ -197,11 +199,12 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         command_word(&l.text)
     }
     fn is_demand(l: &&Line) -> bool {
-        matches!(first_word(l).as_str(), "drive" | "steer" | "turn" | "lift")
+        sends_demands(&first_word(l))
     }
     let mut notes = hard_reset_notes(lines);
     notes.extend(pc_timeout_notes(lines));
     notes.extend(speed_notes(lines));
+    notes.extend(rotate_notes(lines));
     let Some(demand) = lines.iter().find(is_demand) else {
         return notes;
     };
@@ -283,6 +286,76 @@ fn speed_notes(lines: &[Line]) -> Vec<String> {
         .collect()
 }
 
+/// How far (°) a steer demand may stand from its point-turn angle for a `rotate`.
+const POINT_TURN_SLACK: f32 = 1.0;
+
+/// A `rotate` that turns the wheels (SPEED not 0) while a fitted wheel's steer demand is
+/// not its [`POINT_TURN`] angle, or with no `wait` or `watch` since a line last changed
+/// a steer demand (a steer takes about a second to get there): the wheels would be
+/// dragged sideways over the ground.
+fn rotate_notes(lines: &[Line]) -> Vec<String> {
+    let steers = |pc: &Pc| -> Vec<(u8, Option<f32>)> {
+        pc.pairs()
+            .wheels()
+            .map(|w| (w, pc.demand(w, Motor::Steer)))
+            .collect()
+    };
+    let mut notes = Vec::new();
+    let mut before = lines.first().map(|l| steers(&Pc::with_pairs(l.pc.pairs())));
+    let mut waited = true;
+    for line in lines {
+        let now = steers(&line.pc);
+        if before.as_ref() != Some(&now) {
+            waited = false;
+        }
+        if line
+            .actions
+            .iter()
+            .any(|a| matches!(a, Action::Live { .. }))
+        {
+            waited = true;
+        }
+        let spins = command_word(&line.text) == "rotate"
+            && line
+                .text
+                .split_whitespace()
+                .nth(1)
+                .and_then(|v| v.parse::<f32>().ok())
+                .is_some_and(|v| v != 0.0);
+        if spins {
+            let off: Vec<String> = now
+                .iter()
+                .filter_map(|&(w, demand)| {
+                    let want = POINT_TURN[usize::from(w - 1)];
+                    match demand {
+                        Some(d) if (d - want).abs() <= POINT_TURN_SLACK => None,
+                        Some(d) => Some(format!("wheel {w} at {d}° for {want}°")),
+                        None => Some(format!("wheel {w} with no steer demand")),
+                    }
+                })
+                .collect();
+            if !off.is_empty() {
+                notes.push(format!(
+                    "line {} rotates the rover on the spot, but its steers are not at the \
+                     point turn's angles ({}): the wheels would be dragged sideways; put \
+                     `pointturn` and `wait 1` before it",
+                    line.number,
+                    off.join(", ")
+                ));
+            } else if !waited {
+                notes.push(format!(
+                    "line {} rotates the rover with no `wait` since its steers were sent to the \
+                     point turn's angles: they take about a second to get there, dragged \
+                     meanwhile; put `wait 1` before it",
+                    line.number
+                ));
+            }
+        }
+        before = Some(now);
+    }
+    notes
+}
+
 /// Demands a `stop` or a `calibrate` leaves without effect. After a `stop` with no
 /// `calibrate` (or `write`, which may set gains) between them: the stop sends every motor
 /// the library's default block, whose gains are 0 (reference §10.3), so the demand moves
@@ -317,7 +390,7 @@ fn stop_and_calibrate_notes(lines: &[Line]) -> Vec<String> {
                     ));
                 }
             }
-            "drive" | "steer" | "turn" | "lift" => {
+            w if sends_demands(w) => {
                 if let Some(at) = stop.take() {
                     // That note's fix covers the calibrate's too.
                     notes.push(format!(
@@ -458,8 +531,27 @@ impl From<HostError> for Why {
 }
 
 const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
-steer W|all DEG | turn DEG | lift W|all DEG | stop | wait SECONDS | watch SECONDS [EVERY] | \
-show DEV REG… | say TEXT";
+steer W|all DEG | turn DEG | pointturn | rotate SPEED | lift W|all DEG | stop | wait SECONDS | \
+watch SECONDS [EVERY] | show DEV REG… | say TEXT";
+
+/// The operator's point turn `pt` (reference §10.2): the steer angles of wheels 1..6, each
+/// wheel across the line to the rover's centre.
+pub const POINT_TURN: [f32; 6] = [-46.0, 46.0, 0.0, 0.0, 46.0, -46.0];
+
+/// The operator's `rot` (reference §10.2): the drive demands of wheels 1..6 for a rotation
+/// at `speed`, in its order of arithmetic (the middle wheels, nearer the centre, at
+/// 1/1.8 of the others).
+fn rotation(speed: f32) -> [f32; 6] {
+    [-speed, speed, -speed / 1.8, speed / 1.8, -speed, speed]
+}
+
+/// The words of the lines that send demands.
+fn sends_demands(word: &str) -> bool {
+    matches!(
+        word,
+        "drive" | "steer" | "turn" | "lift" | "pointturn" | "rotate"
+    )
+}
 
 fn number(word: &str) -> Result<f32, Why> {
     word.parse::<f32>()
@@ -498,6 +590,11 @@ fn seconds(word: &str, usage: &'static str) -> Result<Duration, Why> {
     Ok(Duration::from_secs_f64(s))
 }
 
+/// Wheels 1..6 paired with their values.
+fn by_wheel(values: [f32; 6]) -> Vec<(u8, f32)> {
+    (1..=6).zip(values).collect()
+}
+
 fn ops(list: Vec<Op>) -> Vec<Action> {
     list.into_iter().map(Action::Op).collect()
 }
@@ -513,6 +610,15 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
         targets
             .iter()
             .map(|&w| Ok(Action::Op(pc.set_required(w, motor, value)?)))
+            .collect()
+    };
+    // One demand per (wheel, value), in that order, to the fitted wheels only.
+    let each = |pc: &mut Pc, motor, demands: &[(u8, f32)]| -> Result<Vec<Action>, Why> {
+        let pairs = pc.pairs();
+        demands
+            .iter()
+            .filter(|(w, _)| pairs.has_wheel(*w))
+            .map(|&(w, v)| Ok(Action::Op(pc.set_required(w, motor, v)?)))
             .collect()
     };
     match words.as_slice() {
@@ -593,16 +699,19 @@ fn line(pc: &mut Pc, text: &str, show_sets: &mut ShowSets) -> Result<Vec<Action>
         )),
         ["turn", v] => {
             let v = number(v)?;
-            let mut out = Vec::new();
-            for (wheel, angle) in [(1, v), (2, v), (5, -v), (6, -v), (3, 0.0), (4, 0.0)] {
-                if !pc.pairs().has_wheel(wheel) {
-                    continue;
-                }
-                out.push(Action::Op(pc.set_required(wheel, Motor::Steer, angle)?));
-            }
-            Ok(out)
+            let angles = [(1, v), (2, v), (5, -v), (6, -v), (3, 0.0), (4, 0.0)];
+            each(pc, Motor::Steer, &angles)
         }
         ["turn", ..] => Err(Why::Usage("turn DEG")),
+        ["pointturn"] => each(pc, Motor::Steer, &by_wheel(POINT_TURN)),
+        ["pointturn", ..] => Err(Why::Usage(
+            "pointturn   (no argument: the steers to the point turn's angles)",
+        )),
+        ["rotate", v] => each(pc, Motor::Drive, &by_wheel(rotation(number(v)?))),
+        ["rotate", ..] => Err(Why::Usage(
+            "rotate SPEED   (ticks/s: the right-side corner wheels 1, 5 at −SPEED, the left 2, 6 at \
+             +SPEED, the middle ones 3, 4 at 1/1.8 of that)",
+        )),
         ["wait", s] => Ok(vec![Action::Live {
             time: seconds(s, "wait SECONDS   (0..3600)")?,
             every: None,
@@ -976,6 +1085,102 @@ mod tests {
         );
         assert!(refusal("calibrate now").contains("`calibrate` takes no argument"));
         assert!(refusal("stop 3").contains("`stop` takes no argument"));
+    }
+
+    #[test]
+    fn a_point_turn_and_a_rotation_send_the_operators_demands() {
+        let lines = parse("s", "pointturn\nrotate 500\nrotate -4000").unwrap();
+        // pt: -46, 46, 0, 0, 46, -46 to the steers of wheels 1..6 (DS boards 1, 2, 4, 5, 7,
+        // 8; STEER_REQPOS 0x1a on ±200: 46 maps to 0x9d6f, -46 to 0x628e).
+        let f = frames(&lines);
+        assert_eq!(
+            &f[..6],
+            [
+                "06 12 01 1a 8e 62",
+                "06 22 01 1a 6f 9d",
+                "06 42 01 1a ff 7f",
+                "06 52 01 1a ff 7f",
+                "06 72 01 1a 6f 9d",
+                "06 82 01 1a 8e 62"
+            ]
+        );
+        // rot 500: wheels 1, 5 at -500; 2, 6 at 500; 3 at -500/1.8, 4 at 500/1.8
+        // (DRIVE_REQSPEED 0x09 on ±4000: 500 is 0x8ffe, -500 0x6fff, ±277.78 0x88e2 / 0x771b).
+        assert_eq!(
+            &f[6..12],
+            [
+                "06 12 01 09 ff 6f",
+                "06 22 01 09 fe 8f",
+                "06 42 01 09 1b 77",
+                "06 52 01 09 e2 88",
+                "06 72 01 09 ff 6f",
+                "06 82 01 09 fe 8f"
+            ]
+        );
+        assert_eq!(lines[1].pc.demand(3, Motor::Drive), Some(-500.0 / 1.8));
+        // rot -4000: wheel 1 at +4000, wheel 2 at -4000, the library's limits.
+        assert_eq!(&f[12..14], ["06 12 01 09 fe ff", "06 22 01 09 00 00"]);
+        // `rotate 0` and `turn 0` record 0 where they negate it, never -0, which a view
+        // would print as "-0".
+        let zero = parse("s", "rotate 0\nturn 0").unwrap();
+        assert!(zero[0]
+            .pc
+            .demand(1, Motor::Drive)
+            .is_some_and(f32::is_sign_positive));
+        assert!(zero[1]
+            .pc
+            .demand(6, Motor::Steer)
+            .is_some_and(f32::is_sign_positive));
+        // With the rear pair alone, only wheels 1 and 2 are sent.
+        let rear = parse_for("s", "pointturn\nrotate 100", Pairs::parse("0").unwrap()).unwrap();
+        assert_eq!(frames(&rear).len(), 4);
+        // Bad forms and a rotation beyond the library's ±4000 are refused.
+        assert!(refusal("pointturn 3").contains("usage: pointturn"));
+        assert!(refusal("rotate").contains("usage: rotate SPEED"));
+        assert_eq!(
+            refusal("rotate fast"),
+            "demo.rover line 1 (`rotate fast`): `fast` is not a number"
+        );
+        assert!(refusal("rotate 4001").contains("out of range for REGDS_DRIVE_REQSPEED"));
+        // The point turn's angles are within every wheel's calibrated limits.
+        assert!(parse("s", "calibrate\npointturn").is_ok());
+    }
+
+    #[test]
+    fn a_rotation_without_the_point_turns_steers_before_it_is_noted() {
+        let notes_of = |src: &str| notes(&parse("s", src).unwrap());
+        let start = "calibrate\nreset\n";
+        assert!(notes_of(&format!("{start}pointturn\nwait 1\nrotate 500\nwait 3")).is_empty());
+        // Stopping a rotation needs no point turn.
+        assert!(notes_of(&format!("{start}rotate 0\nwait 1")).is_empty());
+        assert_eq!(
+            notes_of(&format!("{start}turn 20\nwait 1\nrotate 500\nwait 3")),
+            [
+                "line 5 rotates the rover on the spot, but its steers are not at the point \
+                 turn's angles (wheel 1 at 20° for -46°, wheel 2 at 20° for 46°, wheel 5 at \
+                 -20° for 46°, wheel 6 at -20° for -46°): the wheels would be dragged \
+                 sideways; put `pointturn` and `wait 1` before it"
+            ]
+        );
+        let unsteered = notes_of(&format!("{start}steer 1 -46\nwait 1\nrotate 500\nwait 3"));
+        assert_eq!(unsteered.len(), 1);
+        assert!(
+            unsteered[0].contains("wheel 2 with no steer demand, wheel 3 with no steer demand"),
+            "{unsteered:?}"
+        );
+        assert_eq!(
+            notes_of(&format!("{start}pointturn\nrotate 500\nwait 3")),
+            [
+                "line 4 rotates the rover with no `wait` since its steers were sent to the \
+                 point turn's angles: they take about a second to get there, dragged \
+                 meanwhile; put `wait 1` before it"
+            ]
+        );
+        // A wait between them, however many lines apart, is enough.
+        assert!(notes_of(&format!(
+            "{start}pointturn\nwatch 2\nlift all 10\nrotate 500\nwait 3"
+        ))
+        .is_empty());
     }
 
     #[test]
