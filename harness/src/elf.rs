@@ -88,6 +88,12 @@ pub fn data_initial_bytes(elf: &[u8]) -> Result<Vec<u8>, String> {
         .ok_or_else(|| format!("`.data`'s {len} bytes at {load:#x} lie past the flash image"))
 }
 
+/// The flash an image takes: its code and the initial `.data` stored after it (`.text`
+/// plus `.data`, as `avr-size` counts flash), from address 0 to the last byte loaded.
+pub fn flash_bytes(elf: &[u8]) -> Result<usize, String> {
+    Ok(parse(elf)?.flash.len())
+}
+
 fn load_segments(bytes: &[u8], image: &mut Image) -> Result<(), String> {
     let phoff = u32_at(bytes, 28)? as usize;
     let phentsize = usize::from(u16_at(bytes, 42)?);

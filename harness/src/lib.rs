@@ -61,7 +61,7 @@ pub mod twi;
 mod uart;
 
 pub use avr::{firmware_path, Avr, F_CPU};
-pub use elf::data_initial_bytes;
+pub use elf::{data_initial_bytes, flash_bytes};
 pub use error::HarnessError;
 pub use memory::EEPROM_SIZE;
 pub use pin::{uno, Pin};

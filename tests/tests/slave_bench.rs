@@ -25,6 +25,16 @@ const ADC: u32 = 21 * 4;
 const TWI: u32 = 24 * 4;
 const VECTORS: [u32; 5] = [PCINT2, TIMER0_COMPA, TIMER0_COMPB, ADC, TWI];
 
+/// Issue 5's goal for the control tick of two motors, mean cycles: met with the steer
+/// holding, asserted there.
+const TICK_GOAL: u64 = 1_500;
+
+/// Ceilings on the moving ticks' means, which do not meet [`TICK_GOAL`] (docs/benchmarks.md,
+/// "Decision"): some 5 % above today's 1,707 and 1,974 cycles, so that a change that makes
+/// them slower fails here instead of going unseen.
+const SWINGING_CEILING: u64 = 1_800;
+const LIFTS_CEILING: u64 = 2_080;
+
 fn pc(avr: &mut Avr) -> u32 {
     // SAFETY: plain field read of the live core.
     unsafe { (*avr.as_ptr()).pc }
@@ -175,7 +185,10 @@ fn drive_steer_costs() {
     let (n, mean, max) = stats(&p, TIMER0_COMPB);
     println!("control tick: {n} runs, mean {mean}, max {max} cycles");
     assert!((295..=305).contains(&n), "one tick per ms: {n}");
-    assert!(mean > 300, "the tick does work: {mean}");
+    assert!(
+        mean > 300 && mean <= TICK_GOAL,
+        "the tick works within issue 5's goal of {TICK_GOAL} cycles: {mean}"
+    );
     let (n, mean, max) = stats(&p, PCINT2);
     println!("encoder edge task: {n} runs, mean {mean}, max {max} cycles");
     assert!(n >= 1_100, "{n} pin changes");
@@ -187,7 +200,8 @@ fn drive_steer_costs() {
     println!("idle (asleep): {idle:.1} % of {} cycles", p.total);
     // The ADC converts in the chip's 13 ADC clocks here (`harness::fidelity`), so the
     // ADC task runs as often as on the chip.
-    assert!(idle > 10.0 && idle < 100.0);
+    // 73 % when last recorded; the share moves by a point or so with the run's timing.
+    assert!(idle > 65.0 && idle < 100.0, "idle {idle:.1} %");
 
     // Stack high-water: the lowest address that lost the paint.
     let heap = avr.symbol("__heap_start").expect("symbol") as u16;
@@ -536,7 +550,10 @@ fn drive_steer_costs_while_steering() {
         "the steer hardly moved: {travelled:.1} degrees"
     );
     assert!((440..=460).contains(&n), "one tick per ms: {n}");
-    assert!(mean > 300 && max < 16_000, "{mean} / {max}");
+    assert!(
+        mean > 300 && mean <= SWINGING_CEILING && max < 16_000,
+        "{mean} / {max}"
+    );
 }
 
 #[test]
@@ -557,28 +574,36 @@ fn lift_lift_costs_while_lifting() {
         });
         ll.unwrap_or((f64::NAN, f64::NAN))
     };
-    let start = lifts(&r);
-    // Both lifts swing between -20 and +20 degrees, in opposite directions.
+    // Both lifts swing between -20 and +20 degrees, in opposite directions; the distance
+    // each travels shows that both were moving (and their controllers working).
+    let mut travelled = (0.0, 0.0);
+    let mut last = lifts(&r);
     let tracker = ticks_in_motion(&mut r, 450, |r, i| {
         if i % 150 == 0 {
             let to = if (i / 150) % 2 == 0 { 20.0 } else { -20.0 };
             r.write_value(id::REGLL_ONE_REQPOS, to);
             r.write_value(id::REGLL_TWO_REQPOS, -to);
         }
+        let now = lifts(r);
+        travelled.0 += (now.0 - last.0).abs();
+        travelled.1 += (now.1 - last.1).abs();
+        last = now;
     });
-    let end = lifts(&r);
     let runs = tracker.ticks();
     let (n, mean, max) = run_stats(runs);
     println!("control tick, both lifts moving: {n} runs, mean {mean}, max {max} cycles");
     show_breakdown(&tracker, "slave-lift");
     println!(
-        "  lift ONE {:.1} -> {:.1} degrees, TWO {:.1} -> {:.1}",
-        start.0, end.0, start.1, end.1
+        "  lift ONE travelled {:.1} degrees, TWO {:.1}, in 450 ms",
+        travelled.0, travelled.1
     );
     assert!(
-        (end.0 - start.0).abs() > 2.0 && (end.1 - start.1).abs() > 2.0,
-        "{start:?} -> {end:?}"
+        travelled.0 > 5.0 && travelled.1 > 5.0,
+        "the lifts hardly moved: {travelled:?}"
     );
     assert!((440..=460).contains(&n), "one tick per ms: {n}");
-    assert!(mean > 300 && max < 16_000, "{mean} / {max}");
+    assert!(
+        mean > 300 && mean <= LIFTS_CEILING && max < 16_000,
+        "{mean} / {max}"
+    );
 }
