@@ -194,6 +194,21 @@ fn disabled_stall_type_is_not_raised() {
     rig.steer.held = true;
     rig.bench.write_value(REGDS_STEER_REQPOS, 40.0);
     assert_eq!(run_until_exception(&mut rig, 3_000), None);
+    // The held steer ran at full duty all along, far past its STALLCHECK: only the mask
+    // kept the stall from being raised, and the status shows the board running.
+    assert_eq!(rig.bench.peak_duty[1], 255);
+    assert_eq!(rig.bench.last.unwrap().motors[1].duty(), 255);
+    assert_eq!(rig.bench.read(REG_STATUS), 0x0008);
+    // The check kept watching while the type was masked: unmasked, the stall (3 s old by
+    // now, past the 500-ms filter) is raised within a few updates.
+    rig.bench.write(REG_DISABLEDEXCEPTIONS, 0);
+    let at = run_until_exception(&mut rig, 3_000).expect("a stall once unmasked");
+    assert!(at <= 50, "after {at} ms");
+    assert_eq!(
+        rig.bench.read(REG_EXCEPTIONDATA),
+        0x0105,
+        "STALL on motor 1"
+    );
 }
 
 #[test]

@@ -38,7 +38,7 @@ fn bytes_after_the_register_are_ignored() {
     // REG_DEBUG (2 bytes) then two more, which would otherwise set the drive's demand
     // (the next register) to 4000 ticks/s.
     f.start_write();
-    for b in [REG_DEBUG, 0x00, 0x00, 0xfe, 0xff] {
+    for b in [REG_DEBUG, 0x34, 0x12, 0xfe, 0xff] {
         f.write(b);
     }
     f.stop();
@@ -56,6 +56,9 @@ fn bytes_after_the_register_are_ignored() {
     }
     f.stop();
     assert_eq!(f.get(REGDS_STEER_CALIBMIN), 0x43);
+    // Each of the other two written registers holds its own two bytes only.
+    assert_eq!(f.get(REG_DEBUG), 0x1234);
+    assert_eq!(f.get(REG_EXCEPTIONDATA), 0x0064);
     assert_eq!(
         all_changed(&mut f),
         vec![REG_EXCEPTIONDATA, REG_DEBUG, REGDS_STEER_CALIBMIN]

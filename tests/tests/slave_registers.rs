@@ -187,8 +187,16 @@ fn read_only_registers_ignore_writes() {
         for &reg in &read_only {
             let before = r.read_raw(reg);
             r.bus.write(r.addr, &[reg, 0x5a, 0xa5]).unwrap();
+            // Read at once, within the same millisecond tick as a rule, so that a value
+            // the control task republishes every tick could not hide a write taken: the
+            // original stored such a write until its next pass overwrote it.
+            let at_once = r.read_raw(reg);
+            assert_ne!(at_once, 0xa55a, "register {reg} of {addr}, at once");
             r.run_us(2_000);
             let after = r.read_raw(reg);
+            if !intervals.contains(&reg) && reg != id::REG_TIMER && reg != id::REG_INTERVALI2C {
+                assert_eq!(at_once, before, "register {reg} of {addr}, at once");
+            }
             if intervals.contains(&reg) {
                 let (b, a) = (interval_ms(before), interval_ms(after));
                 let ms = if reg == id::REG_DEBUG {

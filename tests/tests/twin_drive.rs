@@ -15,8 +15,7 @@
 //! researcher tuning a controller would.
 //! (The tests live in one file so they run in parallel.)
 //!
-//! NEEDS THE REAL SLAVE IMAGES: with stub slaves nothing answers on the bus and the first
-//! configuration of a read set fails.
+//! Needs the firmware images: `scripts/firmware.sh`.
 
 mod twin_support;
 
@@ -29,8 +28,8 @@ use hostctl::cmd::pc::{Motor, Op, WHEELS};
 use hostctl::cmd::run::{self, Clock, Output};
 use hostctl::link::Link;
 use twin_support::{
-    drive_speed, lift_pos, master_exception, rover, slave_exception, steer_pos, EmuClock, EmuPort,
-    Session,
+    drive_speed, lift_pos, master_exception, rover, slave_exception, slave_running, steer_pos,
+    EmuClock, EmuPort, Session,
 };
 
 #[test]
@@ -61,7 +60,14 @@ fn drive_turn_and_lift_like_the_pc_library() {
             0x00, 0x0e, 0x00, 0x00, 0x0f, 0xff, 0x7f, 0x18, 0xfe, 0x19, 0x05
         ]
     );
-    assert_eq!(&first[1][..5], [0x1d, 0x12, 0x0a, 0x1b, 0x00]);
+    assert_eq!(
+        first[1],
+        [
+            0x1d, 0x12, 0x0a, 0x1b, 0x00, 0x00, 0x1c, 0x00, 0x00, 0x1d, 0xff, 0x7f, 0x1e, 0x00,
+            0x00, 0x1f, 0x00, 0x00, 0x20, 0x8f, 0x02, 0x2a, 0x43, 0x2b, 0xc4, 0x28, 0xfe, 0x29,
+            0x05
+        ]
+    );
     // Calibrated while every board is still in its boot exception, as the original
     // operator program does at start-up: a position motor in exception holds where it is
     // (required := actual), so the new calibration moves nothing.
@@ -70,7 +76,7 @@ fn drive_turn_and_lift_like_the_pc_library() {
     // resetExceptions(), then every board is out of exception.
     s.reset_exceptions();
     let (ok, snap, took) = s.until(1.0, |s| {
-        master_exception(s) == 0 && (1..=9).all(|n| slave_exception(s, n).is_none())
+        master_exception(s) == 0 && (1..=9).all(|n| slave_running(s, n))
     });
     assert!(ok, "exceptions not cleared after {took:?}: {snap:?}");
 

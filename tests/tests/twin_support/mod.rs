@@ -297,7 +297,15 @@ pub fn master_exception(s: &Snapshot) -> u16 {
         .expect("set 2 holds EXCEPTIONDATA")
 }
 
-/// Controller `n`'s exception type while its STATUS says it is in exception.
+/// Whether controller `n`'s STATUS was read this update and says it is running (no
+/// exception); a controller that did not answer is not.
+pub fn slave_running(s: &Snapshot, n: u8) -> bool {
+    s.raw(n, id::REG_STATUS)
+        .is_some_and(|status| status & 1 == 0)
+}
+
+/// Controller `n`'s exception type while its STATUS says it is in exception (`None` also
+/// when its STATUS was not read: see [`slave_running`]).
 pub fn slave_exception(s: &Snapshot, n: u8) -> Option<u8> {
     let status = s.raw(n, id::REG_STATUS)?;
     (status & 1 == 1).then(|| s.raw(n, id::REG_EXCEPTIONDATA).map(|d| (d & 0xff) as u8))?
