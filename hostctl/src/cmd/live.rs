@@ -435,11 +435,23 @@ pub(crate) fn raised(s: &Snapshot, dropped: &Dropped) -> Vec<String> {
 }
 
 /// The exceptions of `wheel`'s three motors in words ("-": none; one name when all
-/// three share it).
+/// three share it). A motor whose board is in an exception routed to its other motor is
+/// stopped all the same (reference §6.4): `drive stall, steer stopped` on the row of the
+/// motor named, `lift stopped (by wheel 2's lift stall)` on another wheel's row.
 fn motor_exceptions(s: &Snapshot, wheel: u8) -> String {
+    let words = |m: Motor| -> Option<String> {
+        if let Some(e) = motor_exception(s, wheel, m) {
+            return Some(e.type_name());
+        }
+        let e = slave_exception(s, device_of(wheel, m))?;
+        Some(match e.wheel_motor()? {
+            (w, _) if w == wheel => "stopped".to_owned(),
+            (w, other) => format!("stopped (by wheel {w}'s {} {})", other.name(), e.type_name()),
+        })
+    };
     let parts: Vec<(Motor, String)> = [Motor::Drive, Motor::Steer, Motor::Lift]
         .into_iter()
-        .filter_map(|m| Some((m, motor_exception(s, wheel, m)?.type_name())))
+        .filter_map(|m| Some((m, words(m)?)))
         .collect();
     match parts.as_slice() {
         [] => "-".to_owned(),
@@ -720,7 +732,7 @@ mod tests {
         // (drive and steer) and LL 6 with no motor (wheel 3's lift); wheel 4's lift too.
         assert_eq!(
             lines[3],
-            "2              -        0        0.0    40.0         -     0.0  drive stall"
+            "2              -        0        0.0    40.0         -     0.0  drive stall, steer stopped"
         );
         assert_eq!(
             lines[4],
@@ -736,6 +748,21 @@ mod tests {
             "master: exception: stall on controller 2, motor 0 (wheel 2's drive); °C ambient 21.5, boards ? ? ? ? ? ? ? ? ?"
         );
         assert!(lines[9].starts_with("2.0 s: 50 updates, 25.0 update()/s"));
+    }
+
+    #[test]
+    fn a_motor_its_boards_exception_stops_says_by_what() {
+        // LL board 9 in a stall of motor 1 (wheel 6's lift): wheel 5's lift, on the same
+        // board, is stopped too (reference §6.4).
+        let ll9 = vec![(id::REG_STATUS, 0x0005), (id::REG_EXCEPTIONDATA, 0x0105)];
+        let running = vec![(id::REG_STATUS, 0x0008), (id::REG_EXCEPTIONDATA, 0)];
+        let s = Snapshot::new(vec![(7, running.clone()), (8, running), (9, ll9)]);
+        assert_eq!(
+            motor_exceptions(&s, 5),
+            "lift stopped (by wheel 6's lift stall)"
+        );
+        assert_eq!(motor_exceptions(&s, 6), "lift stall");
+        assert_eq!(motor_exceptions(&s, 4), "-");
     }
 
     #[test]
