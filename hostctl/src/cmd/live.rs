@@ -446,7 +446,11 @@ fn motor_exceptions(s: &Snapshot, wheel: u8) -> String {
         let e = slave_exception(s, device_of(wheel, m))?;
         Some(match e.wheel_motor()? {
             (w, _) if w == wheel => "stopped".to_owned(),
-            (w, other) => format!("stopped (by wheel {w}'s {} {})", other.name(), e.type_name()),
+            (w, other) => format!(
+                "stopped (by wheel {w}'s {} {})",
+                other.name(),
+                e.type_name()
+            ),
         })
     };
     let parts: Vec<(Motor, String)> = [Motor::Drive, Motor::Steer, Motor::Lift]

@@ -186,11 +186,12 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
     Ok(lines)
 }
 
-/// What a script that is valid line by line still leaves out, in words: demands with no
-/// `reset` line (every board is in its boot exception after the port opens, so nothing
-/// acts on a demand until a reset), a demand before the first `reset` (a board in
-/// exception replaces its demands, reference §6.4: that one is lost), or demands with no
-/// `calibrate` line (the gains stay 0, so nothing moves), a demand after a `stop` before
+/// What a script that is valid line by line still leaves out, in words: demands to a board
+/// no line resets (every board is in its boot exception after the port opens, so nothing
+/// acts on a demand until a reset), a demand before its board's reset (a board in
+/// exception replaces its demands, reference §6.4: that one is lost), or demands to a
+/// motor no line gives gains (no `calibrate`, nor a `write` of a gain: they stay 0, so
+/// nothing moves), a demand after a `stop` before
 /// the next `calibrate` (the stop sets the gains to 0), or a last demand with no `wait`
 /// or `watch` after it (the script's end reboots the rover at once), and demands a `stop`
 /// or a `calibrate` leaves without effect (see `stop_and_calibrate_notes`).
@@ -209,27 +210,8 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         return notes;
     };
     let has = |word: &str| lines.iter().any(|l| first_word(l) == word);
-    match lines.iter().find(|l| first_word(l) == "reset") {
-        None => notes.push(format!(
-            "line {} sends a demand, but no line is `reset`: after the port opens every board \
-             is in its boot exception, so nothing will move",
-            demand.number
-        )),
-        Some(reset) if reset.number > demand.number => notes.push(format!(
-            "line {} sends a demand before the first `reset` (line {}): a board in exception \
-             replaces its demands (a drive's with 0, a steer's or lift's with its angle), so \
-             this one is lost; send it after the reset",
-            demand.number, reset.number
-        )),
-        Some(_) => {}
-    }
-    if !has("calibrate") {
-        notes.push(format!(
-            "line {} sends a demand, but no line is `calibrate`: the boards' gains stay 0, so \
-             nothing will move",
-            demand.number
-        ));
-    }
+    notes.extend(reset_note(lines, demand));
+    notes.extend(gains_note(lines, demand));
     if has("calibrate") {
         notes.extend(stop_and_calibrate_notes(lines));
     }
@@ -248,6 +230,135 @@ pub fn notes(lines: &[Line]) -> Vec<String> {
         }
     }
     notes
+}
+
+/// A line's one-register writes: (device, register id, raw value).
+fn one_register_writes(line: &Line) -> impl Iterator<Item = (u8, u8, u16)> + '_ {
+    line.actions.iter().filter_map(|a| match a {
+        // Length, address, count 1, id, then the value's one or two bytes (LSB first).
+        Action::Op(Op::Write(send)) => match send.frame.as_slice() {
+            [_, _, 1, reg, lo] => Some((send.device, *reg, u16::from(*lo))),
+            [_, _, 1, reg, lo, hi] => Some((send.device, *reg, u16::from_le_bytes([*lo, *hi]))),
+            _ => None,
+        },
+        _ => None,
+    })
+}
+
+/// The controllers a line takes out of an exception: REG_RESET with bit 0 set, as a
+/// `reset` line or a `write DEV reset 1` sends it.
+fn resets(line: &Line) -> Vec<u8> {
+    one_register_writes(line)
+        .filter(|&(d, reg, raw)| d != 0 && reg == id::REG_RESET && raw & 1 == 1)
+        .map(|(d, ..)| d)
+        .collect()
+}
+
+/// The register of `device`'s table with id `reg`.
+fn register_of(device: u8, reg: u8) -> Option<&'static Register> {
+    BoardKind::of_device(device)?.register(reg)
+}
+
+/// The motor a register belongs to, by its name's prefix (`REGDS_DRIVE`, `REGLL_ONE`, …).
+fn motor_prefix(reg: &Register) -> &str {
+    reg.name
+        .rsplit_once('_')
+        .map_or(reg.name, |(prefix, _)| prefix)
+}
+
+/// The demands of a demand line: (device, demand register).
+fn demands_of(line: &Line) -> Vec<(u8, &'static Register)> {
+    one_register_writes(line)
+        .filter_map(|(d, reg, _)| Some((d, register_of(d, reg)?)))
+        .collect()
+}
+
+/// The first demand that no reset lets act, per controller: its board is in its boot
+/// exception after the port opens until a line resets it (a `reset` line, or a
+/// `write DEV reset 1`), and one in exception replaces its demands (reference §6.4), so a
+/// demand sent before its board's reset is lost. `first` is the script's first demand.
+fn reset_note(lines: &[Line], first: &Line) -> Option<String> {
+    if lines.iter().all(|l| resets(l).is_empty()) {
+        return Some(format!(
+            "line {} sends a demand, but no line is `reset`: after the port opens every board \
+             is in its boot exception, so nothing will move",
+            first.number
+        ));
+    }
+    for (i, line) in lines.iter().enumerate() {
+        if !sends_demands(&command_word(&line.text)) {
+            continue;
+        }
+        for (d, _) in demands_of(line) {
+            if lines[..i].iter().any(|l| resets(l).contains(&d)) {
+                continue;
+            }
+            return Some(
+                match lines[i + 1..].iter().find(|l| resets(l).contains(&d)) {
+                    Some(reset) if command_word(&reset.text) == "reset" => format!(
+                        "line {} sends a demand before the first `reset` (line {}): a board in \
+                     exception replaces its demands (a drive's with 0, a steer's or lift's \
+                     with its angle), so this one is lost; send it after the reset",
+                        line.number, reset.number
+                    ),
+                    Some(reset) => format!(
+                    "line {} sends a demand to controller {d} before line {} resets it: a board \
+                     in exception replaces its demands (a drive's with 0, a steer's or lift's \
+                     with its angle), so this one is lost; send it after the reset",
+                    line.number, reset.number
+                ),
+                    None => format!(
+                        "line {} sends a demand to controller {d}, which no line resets (`reset`, \
+                     or `write {d} reset 1`): after the port opens it is in its boot \
+                     exception, so its motors will not move",
+                        line.number
+                    ),
+                },
+            );
+        }
+    }
+    None
+}
+
+/// The first demand to a motor that no line gives gains: a board's gains are 0 from
+/// power-up until a `calibrate`, or a `write` of the motor's P, I or D gain other than 0.
+/// `first` is the script's first demand.
+fn gains_note(lines: &[Line], first: &Line) -> Option<String> {
+    let calibrates = lines.iter().any(|l| command_word(&l.text) == "calibrate");
+    if calibrates {
+        return None;
+    }
+    // (device, motor prefix) of each gain written other than 0.
+    let gains: Vec<(u8, &str)> = lines
+        .iter()
+        .flat_map(one_register_writes)
+        .filter(|&(_, _, raw)| raw != 0)
+        .filter_map(|(d, reg, _)| {
+            let reg = register_of(d, reg)?;
+            reg.name.ends_with("GAIN").then(|| (d, motor_prefix(reg)))
+        })
+        .collect();
+    if gains.is_empty() {
+        return Some(format!(
+            "line {} sends a demand, but no line is `calibrate`: the boards' gains stay 0, so \
+             nothing will move",
+            first.number
+        ));
+    }
+    lines
+        .iter()
+        .filter(|l| sends_demands(&command_word(&l.text)))
+        .find_map(|line| {
+            let (d, reg) = demands_of(line)
+                .into_iter()
+                .find(|&(d, reg)| !gains.contains(&(d, motor_prefix(reg))))?;
+            Some(format!(
+                "line {} sends {} on controller {d}, but no line gives that motor a gain \
+                 (`calibrate`, or a `write` of its P, I or D gain other than 0): its gains \
+                 stay 0, so it will not move",
+                line.number, reg.name
+            ))
+        })
 }
 
 /// The manual's "about the highest safe speed" (reference §13), ticks/s.
@@ -874,6 +985,42 @@ mod tests {
             ]
         );
         assert_eq!(notes("reset\nturn 10\nwait 1").len(), 1);
+        // A board reset and given a gain by `write` lines moves: no note. Another board,
+        // or another motor of the same board, still gets one.
+        assert!(notes("write 1 reset 1\nwrite 1 drive_pgain 0.02\ndrive 1 500\nwait 3").is_empty());
+        assert!(notes("reset\nwrite 1 drive_pgain 0.02\ndrive 1 500\nwait 3").is_empty());
+        assert_eq!(
+            notes("write 1 reset 1\nwrite 1 drive_pgain 0.02\ndrive 2 500\nsteer 1 5\nwait 3"),
+            [
+                "line 3 sends a demand to controller 2, which no line resets (`reset`, or \
+                 `write 2 reset 1`): after the port opens it is in its boot exception, so its \
+                 motors will not move",
+                "line 3 sends REGDS_DRIVE_REQSPEED on controller 2, but no line gives that \
+                 motor a gain (`calibrate`, or a `write` of its P, I or D gain other than 0): \
+                 its gains stay 0, so it will not move",
+            ]
+        );
+        assert_eq!(
+            notes("reset\nwrite 1 drive_pgain 0.02\nsteer 1 5\nwait 3"),
+            [
+                "line 3 sends REGDS_STEER_REQPOS on controller 1, but no line gives that motor \
+                 a gain (`calibrate`, or a `write` of its P, I or D gain other than 0): its \
+                 gains stay 0, so it will not move"
+            ]
+        );
+        // A gain written as 0 is none; a reset of the master (device 0) resets no board.
+        assert_eq!(
+            notes("write 0 reset 1\nwrite 1 drive_pgain 0\ndrive 1 5\nwait 3").len(),
+            2
+        );
+        assert_eq!(
+            notes("drive 1 5\nwrite 1 reset 1\ncalibrate\nwait 3"),
+            [
+                "line 1 sends a demand to controller 1 before line 2 resets it: a board in \
+                 exception replaces its demands (a drive's with 0, a steer's or lift's with \
+                 its angle), so this one is lost; send it after the reset"
+            ]
+        );
         // A last demand with no wait after it: the end of the script stops the rover.
         assert_eq!(
             notes("calibrate\nreset\ndrive all 100\nwait 1\nsteer all 20\nsay bye"),
