@@ -101,9 +101,9 @@ pub enum Command {
     /// stopped), also while hostctl waits for the master or the twin, and hostctl closes
     /// the port, which stops the rover; a second one ends hostctl at once.
     /// Exit status 3: the script ran to its end with the rover stopped (a board in an
-    /// exception other than its boot state, or a controller not answering, at the last view
-    /// or at one more update() when frames went out after it); 130: stopped by Ctrl-C; 143:
-    /// by SIGTERM.
+    /// exception other than its boot state, one seen rebooted back into its boot state, or a
+    /// controller not answering, at the last view or at one more update() when frames went
+    /// out after it); 130: stopped by Ctrl-C; 143: by SIGTERM.
     Run(cmd::run::Args),
 }
 

@@ -197,6 +197,12 @@ pub fn unit_suffix(reg: &Register) -> String {
     }
 }
 
+/// `text` with each Unicode minus sign (U+2212, "−", as the docs print negative numbers
+/// and a copy from them brings along) made the ASCII `-` that Rust's parsers read.
+pub fn ascii_minus(text: &str) -> String {
+    text.replace('\u{2212}', "-")
+}
+
 /// Parses and checks a value for a write, returning it and its raw form.
 pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32, u16), HostError> {
     let given = text.trim();
@@ -208,7 +214,10 @@ pub fn value(target: Target, reg: &'static Register, text: &str) -> Result<(f32,
         // register numbers do; its values fit 16 bits, so the f32 is exact where it counts.
         Some(digits) if reg.range.is_none() => hex_number(digits).map(|v| v as f32),
         // "nan" parses as an f32, but is no number; "inf" and 1e39 are out of range below.
-        _ => given.parse::<f32>().ok().filter(|v| !v.is_nan()),
+        _ => ascii_minus(given)
+            .parse::<f32>()
+            .ok()
+            .filter(|v| !v.is_nan()),
     };
     let value = parsed.ok_or_else(|| HostError::BadValue {
         given: text.to_owned(),
@@ -661,6 +670,11 @@ mod tests {
         assert_eq!(value(ds(), faulttime, "500.0").unwrap(), (500.0, 500));
         // Mapped registers take fractions.
         assert_eq!(value(ds(), speed, "0.5").unwrap().0, 0.5);
+        // A Unicode minus (U+2212, as the docs print "−40") is a minus.
+        assert_eq!(
+            value(ds(), speed, "\u{2212}40.5").unwrap(),
+            value(ds(), speed, "-40.5").unwrap()
+        );
         assert!(matches!(
             value(ds(), speed, "fast"),
             Err(HostError::BadValue { ref given }) if given == "fast"

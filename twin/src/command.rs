@@ -144,10 +144,13 @@ const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode; US = 
 const DTR: &str = "dtr low|high";
 
 fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
-    word.parse().map_err(|_| CommandError::BadNumber {
-        what,
-        given: word.to_owned(),
-    })
+    // A Unicode minus (U+2212, as the docs print "−55") reads as the ASCII one.
+    word.replace('\u{2212}', "-")
+        .parse()
+        .map_err(|_| CommandError::BadNumber {
+            what,
+            given: word.to_owned(),
+        })
 }
 
 fn on_off(word: &str, usage: &'static str) -> Result<bool, CommandError> {
@@ -571,13 +574,16 @@ mod tests {
                 ))
             );
         }
-        assert_eq!(
-            Command::parse("temp 0 -55"),
-            Ok(Command::Temp {
-                index: 0,
-                half_degrees: -110
-            })
-        );
+        // The ASCII minus, or the Unicode one the docs print.
+        for minus in ["-", "\u{2212}"] {
+            assert_eq!(
+                Command::parse(&format!("temp 0 {minus}55")),
+                Ok(Command::Temp {
+                    index: 0,
+                    half_degrees: -110
+                })
+            );
+        }
         assert_eq!(
             Command::parse("spike 6 lift 10.24 60000"),
             Ok(Command::Spike {

@@ -665,7 +665,8 @@ fn sends_demands(word: &str) -> bool {
 }
 
 fn number(word: &str) -> Result<f32, Why> {
-    word.parse::<f32>()
+    resolve::ascii_minus(word)
+        .parse::<f32>()
         .ok()
         .filter(|v| v.is_finite())
         .ok_or_else(|| Why::Number(word.to_owned()))
@@ -1284,6 +1285,11 @@ mod tests {
         // Bad forms and a rotation beyond the library's ±4000 are refused.
         assert!(refusal("pointturn 3").contains("usage: pointturn"));
         assert!(refusal("rotate").contains("usage: rotate SPEED"));
+        assert_eq!(
+            frames(&parse("s", "rotate \u{2212}500").unwrap()),
+            frames(&parse("s", "rotate -500").unwrap()),
+            "a Unicode minus is a minus"
+        );
         assert_eq!(
             refusal("rotate fast"),
             "demo.rover line 1 (`rotate fast`): `fast` is not a number"
