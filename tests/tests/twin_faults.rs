@@ -884,6 +884,14 @@ fn the_status_shows_each_board_as_the_bench_would() {
             let wheel = 2 * ((n - 1) / 3) + n % 3;
             let drive = format!("wheel {wheel} drive forward ");
             assert!(line.contains(&drive), "{line}");
+            // A drive board's LED2 only flickers with the heartbeat (1 ms in every 101): it
+            // reads as dark for as long as the board has run, and flickering.
+            let (_, led2) = line
+                .split_once("LED2 off ")
+                .unwrap_or_else(|| panic!("{line}"));
+            let (age, rest) = led2.split_once(" s").unwrap_or_else(|| panic!("{line}"));
+            assert!(age.parse::<f64>().is_ok_and(|age| age > 1.0), "{line}");
+            assert!(rest.starts_with(", flickering;"), "{line}");
         }
     }
     // An 8 A spike on wheel 2's drive: controller 2 latches LED1 (its motor 0); the eight
