@@ -611,7 +611,7 @@ fn view_json(
     };
     let view = event()
         .int("line", number(line))
-        .num("elapsed_s", elapsed.as_secs_f32())
+        .num("elapsed_s", to_the_ms(elapsed))
         .int("updates", i64::try_from(updates).unwrap_or(i64::MAX))
         .num("rate", rate as f32)
         .raw("wheels", &wheels)
@@ -901,6 +901,12 @@ fn draw(
         .write_all(text.as_bytes())
         .map_err(HostError::Output)?;
     output.out.flush().map_err(HostError::Output)
+}
+
+/// Seconds to the nearest millisecond, for a view's `elapsed_s`: the views are some 45 ms
+/// apart, and the ns below would print 1.817 s as 1.8169999.
+fn to_the_ms(d: Duration) -> f32 {
+    ((d.as_secs_f64() * 1000.0).round() / 1000.0) as f32
 }
 
 #[cfg(test)]
@@ -1969,6 +1975,11 @@ write 4 reset 2
         assert_eq!(views("watch 0.05 0\n"), [0.0, 0.01, 0.02, 0.03, 0.04, 0.05]);
         // A `wait` to a file: its last view only.
         assert_eq!(views("wait 1\n"), [1.0]);
+        // Printed to the millisecond, not as the f32 nearest a count of ns.
+        let printed = |ns| json::number(to_the_ms(Duration::from_nanos(ns)));
+        assert_eq!(printed(1_816_999_900), "1.817");
+        assert_eq!(printed(1_817_000_400), "1.817");
+        assert_eq!(printed(0), "0");
     }
 
     #[test]
