@@ -91,6 +91,9 @@ pub fn devices_of(kind: BoardKind) -> String {
 
 /// Resolves a register name or number against the target's table.
 pub fn register(target: Target, text: &str) -> Result<&'static Register, HostError> {
+    // Spaces around the name (a quoted argument), as around a device or value, are no part
+    // of it.
+    let text = text.trim();
     let table = target.kind.table();
     if let Some(id) = number(text) {
         return u8::try_from(id)
@@ -498,6 +501,7 @@ mod tests {
             "regll_one_reqpos",
             "ONE_REQPOS",
             "One_ReqPos",
+            " one_reqpos",
             "9",
         ] {
             let reg = register(ll(), text).unwrap();

@@ -64,8 +64,10 @@ struct RunArgs {
     /// A fault to inject at start, as `twin inject` takes it (e.g. "stall 3 on"); repeatable.
     #[arg(long, value_name = "CMD")]
     fault: Vec<String>,
-    /// The bus's lock-step quantum, µs of emulated time.
-    #[arg(long, value_name = "US", default_value_t = twin::DEFAULT_QUANTUM_US)]
+    /// The bus's lock-step quantum, µs of emulated time, 1..=50 (at most the physics slice:
+    /// within a quantum a slave lags the master by up to the quantum).
+    #[arg(long, value_name = "US", default_value_t = twin::DEFAULT_QUANTUM_US,
+          value_parser = clap::value_parser!(u64).range(1..=50))]
     quantum_us: u64,
     /// Threads the chips run on, 1..=10 (1: all on one thread) [default: the available
     /// parallelism, at most 4].
@@ -184,7 +186,7 @@ fn run(args: &RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     install_signals()?;
     let config = Config {
         firmware_dir: args.firmware_dir.clone(),
-        quantum_us: args.quantum_us.max(1),
+        quantum_us: args.quantum_us,
         threads: args
             .threads
             .map_or_else(twin::default_threads, usize::from)
