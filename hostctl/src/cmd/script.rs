@@ -191,10 +191,10 @@ pub fn parse_for(path: &str, source: &str, pairs: Pairs) -> Result<Vec<Line>, Ho
 /// acts on a demand until a reset), a demand before its board's reset (a board in
 /// exception replaces its demands, reference §6.4: that one is lost), or demands to a
 /// motor no line gives gains (no `calibrate`, nor a `write` of a gain: they stay 0, so
-/// nothing moves), a demand after a `stop` before
-/// the next `calibrate` (the stop sets the gains to 0), or a last demand with no `wait`
-/// or `watch` after it (the script's end reboots the rover at once), and demands a `stop`
-/// or a `calibrate` leaves without effect (see `stop_and_calibrate_notes`).
+/// nothing moves), a demand after a `stop` before the next `calibrate` (the stop sets the
+/// gains to 0), or a last demand with no `wait` or `watch` after it (the script's end
+/// reboots the rover at once), demands a `stop` or a `calibrate` leaves without effect
+/// (see `stop_and_calibrate_notes`), and a `rotate` without the point turn's steers.
 pub fn notes(lines: &[Line]) -> Vec<String> {
     fn first_word(l: &Line) -> String {
         command_word(&l.text)
@@ -293,28 +293,31 @@ fn reset_note(lines: &[Line], first: &Line) -> Option<String> {
             if lines[..i].iter().any(|l| resets(l).contains(&d)) {
                 continue;
             }
-            return Some(
-                match lines[i + 1..].iter().find(|l| resets(l).contains(&d)) {
-                    Some(reset) if command_word(&reset.text) == "reset" => format!(
-                        "line {} sends a demand before the first `reset` (line {}): a board in \
-                     exception replaces its demands (a drive's with 0, a steer's or lift's \
-                     with its angle), so this one is lost; send it after the reset",
-                        line.number, reset.number
-                    ),
-                    Some(reset) => format!(
-                    "line {} sends a demand to controller {d} before line {} resets it: a board \
-                     in exception replaces its demands (a drive's with 0, a steer's or lift's \
-                     with its angle), so this one is lost; send it after the reset",
-                    line.number, reset.number
+            // Reference §6.4: what a board in exception does with a demand.
+            const LOST: &str = "a board in exception replaces its demands (a drive's with 0, a \
+                                steer's or lift's with its angle), so this one is lost; send \
+                                it after the reset";
+            let n = line.number;
+            let later = lines[i + 1..].iter().find(|l| resets(l).contains(&d));
+            let note = match later {
+                Some(r) if command_word(&r.text) == "reset" => {
+                    format!(
+                        "line {n} sends a demand before the first `reset` (line {}): {LOST}",
+                        r.number
+                    )
+                }
+                Some(r) => format!(
+                    "line {n} sends a demand to controller {d} before line {} resets it: \
+                     {LOST}",
+                    r.number
                 ),
-                    None => format!(
-                        "line {} sends a demand to controller {d}, which no line resets (`reset`, \
-                     or `write {d} reset 1`): after the port opens it is in its boot \
-                     exception, so its motors will not move",
-                        line.number
-                    ),
-                },
-            );
+                None => format!(
+                    "line {n} sends a demand to controller {d}, which no line resets \
+                     (`reset`, or `write {d} reset 1`): after the port opens it is in its \
+                     boot exception, so its motors will not move"
+                ),
+            };
+            return Some(note);
         }
     }
     None
