@@ -434,7 +434,7 @@ fn rotate_notes(lines: &[Line]) -> Vec<String> {
                 .text
                 .split_whitespace()
                 .nth(1)
-                .and_then(|v| v.parse::<f32>().ok())
+                .and_then(|v| number(v).ok())
                 .is_some_and(|v| v != 0.0);
         if spins {
             let off: Vec<String> = now
@@ -1309,6 +1309,10 @@ mod tests {
         assert!(notes_of(&format!("{start}pointturn\nwait 1\nrotate 500\nwait 3")).is_empty());
         // Stopping a rotation needs no point turn.
         assert!(notes_of(&format!("{start}rotate 0\nwait 1")).is_empty());
+        assert_eq!(
+            notes_of(&format!("{start}rotate \u{2212}500\nwait 1")).len(),
+            1
+        );
         assert_eq!(
             notes_of(&format!("{start}turn 20\nwait 1\nrotate 500\nwait 3")),
             [
