@@ -278,19 +278,29 @@ fn demands_of(line: &Line) -> Vec<(u8, &'static Register)> {
 /// `write DEV reset 1`), and one in exception replaces its demands (reference §6.4), so a
 /// demand sent before its board's reset is lost. `first` is the script's first demand.
 fn reset_note(lines: &[Line], first: &Line) -> Option<String> {
-    if lines.iter().all(|l| resets(l).is_empty()) {
+    // The first line that resets each controller (index by device), found in one pass.
+    let mut first_reset: [Option<&Line>; 10] = [None; 10];
+    for line in lines {
+        for d in resets(line) {
+            if let Some(slot) = first_reset.get_mut(usize::from(d)) {
+                slot.get_or_insert(line);
+            }
+        }
+    }
+    if first_reset.iter().all(Option::is_none) {
         return Some(format!(
             "line {} sends a demand, but no line is `reset`: after the port opens every board \
              is in its boot exception, so nothing will move",
             first.number
         ));
     }
-    for (i, line) in lines.iter().enumerate() {
+    for line in lines {
         if !sends_demands(&command_word(&line.text)) {
             continue;
         }
         for (d, _) in demands_of(line) {
-            if lines[..i].iter().any(|l| resets(l).contains(&d)) {
+            let reset = first_reset.get(usize::from(d)).copied().flatten();
+            if reset.is_some_and(|r| r.number < line.number) {
                 continue;
             }
             // Reference §6.4: what a board in exception does with a demand.
@@ -298,8 +308,8 @@ fn reset_note(lines: &[Line], first: &Line) -> Option<String> {
                                 steer's or lift's with its angle), so this one is lost; send \
                                 it after the reset";
             let n = line.number;
-            let later = lines[i + 1..].iter().find(|l| resets(l).contains(&d));
-            let note = match later {
+            // Its first reset, if any, comes after this line.
+            let note = match reset {
                 Some(r) if command_word(&r.text) == "reset" => {
                     format!(
                         "line {n} sends a demand before the first `reset` (line {}): {LOST}",
