@@ -147,16 +147,17 @@ impl Exception {
         }
     }
 
-    /// The value as a JSON object: `type` (code), `name` (null for the master's "none"),
+    /// The value as a JSON object: `type` (code), `name` (the manual's, as `OVERCURRENT`;
+    /// null for the master's "none" or a code no board sends),
     /// `controller` (the master's only), `motor`, `wheel` and `wheel_motor` ("drive",
     /// "steer" or "lift") when the motor is one of a wheel's, and `text` (as
     /// [`Exception::words`]).
     pub fn json(&self) -> String {
         let object = json::Object::new().int("type", self.code);
-        let object = if self.is_none() {
-            object.raw("name", "null")
-        } else {
-            object.str("name", &self.type_name())
+        // The manual's name, an identifier to match on; null for none or a code unknown.
+        let object = match ExceptionType::from_code(self.code) {
+            Some(t) if !self.is_none() => object.str("name", t.manual_name()),
+            _ => object.raw("name", "null"),
         };
         let object = match self.controller {
             Some(c) => object.int("controller", c),
@@ -195,7 +196,7 @@ mod tests {
         );
         assert_eq!(
             e.json(),
-            r#"{"type":1,"name":"overcurrent","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#
+            r#"{"type":1,"name":"OVERCURRENT","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#
         );
         // A lift board's motor 0 is its pair's odd wheel's lift.
         assert_eq!(
@@ -233,7 +234,7 @@ mod tests {
             assert!(!e.is_none());
             assert_eq!(
                 e.json(),
-                r#"{"type":2,"name":"boot","motor":5,"text":"boot, the whole board (the last exception)"}"#
+                r#"{"type":2,"name":"BOOT","motor":5,"text":"boot, the whole board (the last exception)"}"#
             );
             assert_eq!(
                 Exception::of(1, data, 0x0009).map(|e| e.words()),

@@ -480,7 +480,7 @@ fn exception_data_is_read_in_words() {
         o.out,
         "{\"command\":\"read\",\"device\":1,\"board\":\"DS\",\"id\":5,\
          \"register\":\"REG_EXCEPTIONDATA\",\"raw\":1282,\"value\":1282,\"unit\":\"\",\
-         \"exception\":{\"type\":2,\"name\":\"boot\",\"motor\":5,\
+         \"exception\":{\"type\":2,\"name\":\"BOOT\",\"motor\":5,\
          \"text\":\"boot, the whole board (the last exception)\"}}\n"
     );
 }
@@ -561,7 +561,7 @@ fn read_sizes_the_reply_from_the_device_table() {
         o.out,
         "{\"command\":\"read\",\"device\":0,\"board\":\"MASTER\",\"id\":11,\
          \"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
-         \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
+         \"exception\":{\"type\":1,\"name\":\"OVERCURRENT\",\"controller\":4,\"motor\":1,\
          \"wheel\":3,\"wheel_motor\":\"steer\",\
          \"text\":\"overcurrent on controller 4, motor 1 (wheel 3's steer)\"}}\n"
     );
@@ -1018,13 +1018,13 @@ fn watch_standard_sets_1_and_2_match_the_library() {
     );
     let line = o.out.lines().next().unwrap();
     assert!(line.starts_with(
-        "{\"round\":1,\"set\":2,\"device\":0,\"board\":\"MASTER\",\"values\":[\
+        "{\"command\":\"watch\",\"round\":1,\"set\":2,\"device\":0,\"board\":\"MASTER\",\"values\":[\
          {\"id\":1,\"register\":\"REGMASTER_TEMPAMBIENT\",\"raw\":22663,\"value\":21.498459,\"unit\":\"degC\",\"read\":true},\
          {\"id\":2,\"register\":\"REGMASTER_TEMP1\",\"raw\":0,\"value\":null,\"unit\":\"degC\",\"read\":false},"
     ), "{line}");
     assert!(line.ends_with(
         "{\"id\":11,\"register\":\"REGMASTER_EXCEPTIONDATA\",\"raw\":5121,\"value\":5121,\"unit\":\"\",\
-         \"exception\":{\"type\":1,\"name\":\"overcurrent\",\"controller\":4,\"motor\":1,\
+         \"exception\":{\"type\":1,\"name\":\"OVERCURRENT\",\"controller\":4,\"motor\":1,\
          \"wheel\":3,\"wheel_motor\":\"steer\",\
          \"text\":\"overcurrent on controller 4, motor 1 (wheel 3's steer)\"}}]}"
     ), "{line}");
@@ -1083,12 +1083,12 @@ fn watch_json_gives_one_line_per_device_per_round() {
     o.result.unwrap();
     assert_eq!(
         o.out,
-        "{\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":1,\"value\":1,\"unit\":\"ms\"}]}\n\
-         {\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":2,\"value\":2,\"unit\":\"ms\"}]}\n\
-         {\"round\":1,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":3,\"value\":3,\"unit\":\"ms\"}]}\n\
-         {\"round\":2,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":4,\"value\":4,\"unit\":\"ms\"}]}\n\
-         {\"round\":2,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":5,\"value\":5,\"unit\":\"ms\"}]}\n\
-         {\"round\":2,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":6,\"value\":6,\"unit\":\"ms\"}]}\n"
+        "{\"command\":\"watch\",\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":1,\"value\":1,\"unit\":\"ms\"}]}\n\
+         {\"command\":\"watch\",\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":2,\"value\":2,\"unit\":\"ms\"}]}\n\
+         {\"command\":\"watch\",\"round\":1,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":3,\"value\":3,\"unit\":\"ms\"}]}\n\
+         {\"command\":\"watch\",\"round\":2,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":4,\"value\":4,\"unit\":\"ms\"}]}\n\
+         {\"command\":\"watch\",\"round\":2,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":5,\"value\":5,\"unit\":\"ms\"}]}\n\
+         {\"command\":\"watch\",\"round\":2,\"set\":1,\"device\":9,\"board\":\"LL\",\"values\":[{\"id\":1,\"register\":\"REG_TIMER\",\"raw\":6,\"value\":6,\"unit\":\"ms\"}]}\n"
     );
 }
 
@@ -1191,7 +1191,7 @@ fn watch_goes_on_past_a_controller_that_does_not_answer() {
     let lines: Vec<&str> = o.out.lines().collect();
     assert_eq!(
         lines[1],
-        "{\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":null,\"no_answer\":true}"
+        "{\"command\":\"watch\",\"round\":1,\"set\":1,\"device\":6,\"board\":\"LL\",\"values\":null,\"no_answer\":true}"
     );
     assert_eq!(lines.len(), 6);
 }
@@ -1260,7 +1260,7 @@ fn a_watch_shows_no_answer_only_for_a_new_noanswer_error() {
     assert!(o.result.is_err());
     assert_eq!(
         o.out.lines().next(),
-        Some("{\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":null,\"reply_lost\":true}")
+        Some("{\"command\":\"watch\",\"round\":1,\"set\":1,\"device\":3,\"board\":\"LL\",\"values\":null,\"reply_lost\":true}")
     );
     // The JSON ends with the error, which names the device.
     let last = o.out.lines().last().unwrap_or_default();
@@ -1891,7 +1891,10 @@ fn ctrl_c_ends_a_watch_after_its_round_with_status_130() {
         if json {
             assert_eq!(out.lines().count(), 3, "{out}");
             assert!(
-                out.lines().last().unwrap().starts_with("{\"round\":3,"),
+                out.lines()
+                    .last()
+                    .unwrap()
+                    .starts_with("{\"command\":\"watch\",\"round\":3,"),
                 "{out}"
             );
             let last = crate::error_json(&cli.command, &e);

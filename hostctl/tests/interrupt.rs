@@ -197,6 +197,10 @@ fn ctrl_c_during_a_watch_ends_it_after_its_round_with_status_130() {
     // Its rounds, then the last JSON line says it was interrupted.
     let last = s.stdout.lines().last().unwrap_or_default();
     assert!(last.contains(r#""interrupted":"Ctrl-C""#), "{}", s.stdout);
-    assert!(s.stdout.contains(r#"{"round":5,"#), "{}", s.stdout);
+    assert!(
+        s.stdout.contains(r#"{"command":"watch","round":5,"#),
+        "{}",
+        s.stdout
+    );
     assert!(s.reads_after <= 1, "{} reads after Ctrl-C", s.reads_after);
 }

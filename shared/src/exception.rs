@@ -62,6 +62,26 @@ impl ExceptionType {
         })
     }
 
+    /// The name the manual gives it (reference §6.1; the project's own types named the same
+    /// way): a stable identifier for programs, where [`ExceptionType::name`] is for people.
+    pub const fn manual_name(self) -> &'static str {
+        use ExceptionType::*;
+        match self {
+            Overcurrent => "OVERCURRENT",
+            Boot => "BOOT",
+            RemoteSlave => "REMOTESLAVE",
+            ShortNc => "SHORTNC",
+            Stall => "STALL",
+            EncoderFault => "ENCODERFAULT",
+            DriveFault => "DRIVEFAULT",
+            ShortOc => "SHORTOC",
+            SensorMissing => "SENSORMISSING",
+            SlaveSilent => "SLAVESILENT",
+            BusSilent => "BUSSILENT",
+            PcSilent => "PCSILENT",
+        }
+    }
+
     /// A short name for people.
     pub const fn name(self) -> &'static str {
         use ExceptionType::*;
@@ -186,6 +206,35 @@ mod tests {
             motor: 0x12,
         };
         assert_eq!(wide.data(), 0x2f05);
+    }
+
+    #[test]
+    fn manual_names_are_the_references_and_distinct_identifiers() {
+        // Reference §6.1's names for the original's types, code by code.
+        let manual = [
+            (1, "OVERCURRENT"),
+            (2, "BOOT"),
+            (3, "REMOTESLAVE"),
+            (4, "SHORTNC"),
+            (5, "STALL"),
+            (6, "ENCODERFAULT"),
+            (7, "DRIVEFAULT"),
+            (8, "SHORTOC"),
+        ];
+        for (code, name) in manual {
+            let t = ExceptionType::from_code(code).expect("a type of the manual");
+            assert_eq!(t.manual_name(), name);
+        }
+        let types: Vec<ExceptionType> = (0..=255).filter_map(ExceptionType::from_code).collect();
+        assert_eq!(types.len(), 12);
+        for (i, t) in types.iter().enumerate() {
+            let name = t.manual_name();
+            assert!(name.bytes().all(|b| b.is_ascii_uppercase()), "{name}");
+            assert!(
+                types[..i].iter().all(|o| o.manual_name() != name),
+                "{name} twice"
+            );
+        }
     }
 
     #[test]

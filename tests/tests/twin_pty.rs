@@ -642,7 +642,7 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
         &view[from..to]
     };
     let shortoc = format!(
-        r#""exception":{{"type":8,"name":"{short}","motor":0,"wheel":3,"wheel_motor":"drive","text":"{short}, motor 0 (wheel 3's drive)"}}"#
+        r#""exception":{{"type":8,"name":"SHORTOC","motor":0,"wheel":3,"wheel_motor":"drive","text":"{short}, motor 0 (wheel 3's drive)"}}"#
     );
     assert_eq!(
         wheel(3).matches(&shortoc).count(),
@@ -653,7 +653,7 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     for n in [1, 2, 4, 5, 6] {
         assert_eq!(
             wheel(n)
-                .matches(r#""exception":{"type":3,"name":"remote"#)
+                .matches(r#""exception":{"type":3,"name":"REMOTESLAVE","#)
                 .count(),
             3,
             "wheel {n}'s three motors: {}",
@@ -662,7 +662,7 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
     }
     assert!(
         view.contains(&format!(
-            r#""master_state":{{"exception":{{"type":8,"name":"{short}","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
+            r#""master_state":{{"exception":{{"type":8,"name":"SHORTOC","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
         )),
         "{view}"
     );

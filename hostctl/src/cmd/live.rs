@@ -776,7 +776,7 @@ mod tests {
         assert_eq!(
             motor_exception(&s, 2, Motor::Drive).map(|e| e.json()),
             Some(
-                r#"{"type":5,"name":"stall","motor":0,"wheel":2,"wheel_motor":"drive","text":"stall, motor 0 (wheel 2's drive)"}"#
+                r#"{"type":5,"name":"STALL","motor":0,"wheel":2,"wheel_motor":"drive","text":"stall, motor 0 (wheel 2's drive)"}"#
                     .to_owned()
             )
         );
@@ -796,7 +796,7 @@ mod tests {
         assert_eq!(motor_exception(&s, 1, Motor::Drive), None);
         assert_eq!(
             master_json(&s),
-            r#"{"exception":{"type":5,"name":"stall","controller":2,"motor":0,"wheel":2,"wheel_motor":"drive","text":"stall on controller 2, motor 0 (wheel 2's drive)"},"temperatures":{"ambient":21.498459,"boards":[null,null,null,null,null,null,null,null,null]}}"#
+            r#"{"exception":{"type":5,"name":"STALL","controller":2,"motor":0,"wheel":2,"wheel_motor":"drive","text":"stall on controller 2, motor 0 (wheel 2's drive)"},"temperatures":{"ambient":21.498459,"boards":[null,null,null,null,null,null,null,null,null]}}"#
         );
         // A sensor with its TEMPSREAD bit clear holds no reading: null, not 0.0 °C.
         let mut master = vec![

@@ -1502,7 +1502,7 @@ mod tests {
             (
                 false,
                 true,
-                r#""exception":{"type":1,"name":"overcurrent","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#,
+                r#""exception":{"type":1,"name":"OVERCURRENT","controller":4,"motor":1,"wheel":3,"wheel_motor":"steer","text":"overcurrent on controller 4, motor 1 (wheel 3's steer)"}"#,
             ),
         ] {
             let ran = run_script(script, &replies(lost_last), json);

@@ -584,7 +584,8 @@ impl Legend {
     }
 }
 
-/// The round as JSON lines: one object per device.
+/// The round as JSON lines: one object per device, each with `"command":"watch"` as
+/// every other command's lines have their command's name.
 pub fn json_lines(round: &Round) -> Vec<String> {
     round
         .rows
@@ -616,6 +617,7 @@ pub fn json_lines(round: &Round) -> Vec<String> {
                 Reading::NoAnswer | Reading::Lost => "null".to_owned(),
             };
             let object = json::Object::new()
+                .str("command", "watch")
                 .int("round", i64::try_from(round.number).unwrap_or(i64::MAX))
                 .int("set", round.set)
                 .int("device", row.target.device)
