@@ -75,35 +75,56 @@ pub enum Command {
     /// registers are named.
     Watch(cmd::watch::Args),
 
-    /// Run a script of rover commands over one connection (opening the port resets the
-    /// master, so a sequence belongs in one session): reset, calibrate (the library's
-    /// calibrate() with every running board stopped meanwhile: each steer and lift then
-    /// holds where it stands on the new calibration, each drive aims for 0), write DEV REG
-    /// VALUE, drive|steer|lift W|all VALUE, turn DEG, pointturn then rotate SPEED (the
-    /// operator's `pt` and `rot`: the rover turns on the spot), stop (every motor unpowered
-    /// at once, then the library's emergency stop: gains and demands 0; a board that
-    /// ignores it fails the line), wait SECONDS (a live view of required against actual per
-    /// wheel, redrawn in place; to a file or pipe, the last view only, when it ends or
-    /// Ctrl-C stops it), `watch SECONDS [EVERY]` (the same view kept as a log, one every
-    /// EVERY seconds, 1 by default, 0 for every update: for a record that survives a killed
-    /// run, or a step response at the link's full rate), show DEV REG… (adds registers,
-    /// e.g. `show 1 drive_control drive_error`, to every later view), say TEXT. A comment
-    /// starts at a `#` that begins the line or stands alone after a space (`drive all 100 #
-    /// forward`; `say Wheel #1` prints `Wheel #1`). The whole script is checked before
-    /// anything is sent. drive, steer, lift, turn, pointturn and rotate are checked against
-    /// the library's limits (steer and lift: the calibration less 10°); `write` only
-    /// against the register's range, as the original library checks its own register
-    /// writes. The rover stops when the script ends (closing the port reboots it), so end
-    /// with `wait` for a demand to act. The first write waits until 5 s after the master's
-    /// banner, when the master starts watching the controllers.
+    /// Run a script of rover commands in one session of the serial link
+    ///
+    /// Each opening of the port resets the master, so a sequence that must act on one boot
+    /// belongs in one script.
+    ///
+    /// A line is one command; `#` starts a comment at a line's start or alone after a space
+    /// (`drive all 100 # forward`; `say Wheel #1` prints `Wheel #1`):
+    ///   reset                   the library's resetExceptions(): every fitted board leaves its
+    ///                           exception (after the port opens, each is in its boot state)
+    ///   calibrate               the library's calibrate(), every running board held stopped
+    ///                           meanwhile: each steer and lift then holds where it stands on
+    ///                           the new calibration, each drive aims for 0
+    ///   write DEV REG VALUE     one register, VALUE in engineering units
+    ///   drive W|all SPEED       a drive demand, ticks/s (W: wheel 1..6)
+    ///   steer W|all DEG         a steer demand
+    ///   lift W|all DEG          a lift demand
+    ///   turn DEG                the library's turn: steers 1, 2 to DEG, 5, 6 to -DEG, 3, 4 to 0
+    ///   pointturn               steers to the point turn's angles (the operator's `pt`)
+    ///   rotate SPEED            drives 1, 5 at -SPEED, 2, 6 at SPEED, 3 and 4 at -SPEED/1.8
+    ///                           and SPEED/1.8: the spin after a pointturn (`rot`)
+    ///   stop                    every motor unpowered at once, then the library's emergency
+    ///                           stop (gains and demands 0); a board that ignores it fails
+    ///   wait SECONDS            a live view of required against actual per wheel, redrawn in
+    ///                           place (to a file or pipe: the last view only)
+    ///   watch SECONDS [EVERY]   the same view kept as a log, one every EVERY s (1 by
+    ///                           default; 0: every update, for a step response)
+    ///   show DEV REG…           adds registers (`show 1 drive_control drive_error`) to
+    ///                           every later view
+    ///   say TEXT                prints TEXT
+    ///
+    /// The whole script is checked before anything is sent: drive, steer, lift, turn,
+    /// pointturn and rotate against the library's limits (steer and lift: the calibration
+    /// less 10°), `write` only against the register's range, as the original library checks
+    /// its own register writes.
+    ///
+    /// The first write waits until 5 s after the master's banner, when the master starts
+    /// watching the controllers. The rover stops when the script ends (closing the port
+    /// reboots it), so end with a `wait` for a demand to act.
+    ///
     /// Ctrl-C (or SIGTERM) stops the script after the line in progress (a `wait` or `watch`
     /// ends at once, drawing its view once more; a `calibrate` leaves the boards it stopped
     /// stopped), also while hostctl waits for the master or the twin, and hostctl closes
     /// the port, which stops the rover; a second one ends hostctl at once.
-    /// Exit status 3: the script ran to its end with the rover stopped (a board in an
-    /// exception other than its boot state, one seen rebooted back into its boot state, or a
-    /// controller not answering, at the last view or at one more update() when frames went
-    /// out after it); 130: stopped by Ctrl-C; 143: by SIGTERM.
+    ///
+    /// Exit status: 0 done; 1 an error (a line refused, the link failed); 3 the script ran
+    /// to its end with the rover stopped (a board in an exception other than its boot state,
+    /// one seen rebooted back into its boot state, or a controller not answering, at the
+    /// last view or at one more update() when frames went out after it); 130 stopped by
+    /// Ctrl-C; 143 by SIGTERM.
+    #[command(verbatim_doc_comment)]
     Run(cmd::run::Args),
 }
 

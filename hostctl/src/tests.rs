@@ -1744,6 +1744,36 @@ fn readset_help_says_the_set_ends_with_the_session() {
 }
 
 #[test]
+fn run_help_lists_every_script_command_on_a_line_of_its_own() {
+    use clap::CommandFactory;
+    let mut cli = Cli::command();
+    let help = cli
+        .find_subcommand_mut("run")
+        .unwrap()
+        .render_long_help()
+        .to_string();
+    // The script parser's own usage list, command by command.
+    let usages: Vec<&str> = crate::cmd::script::COMMANDS.split(" | ").collect();
+    assert_eq!(usages.len(), 14, "{usages:?}");
+    for usage in usages {
+        assert!(
+            help.lines().any(|l| l.strip_prefix("  ").is_some_and(|l| {
+                l.strip_prefix(usage)
+                    .is_some_and(|rest| rest.starts_with("   "))
+            })),
+            "no line for `{usage}` in:\n{help}"
+        );
+    }
+    // The list of commands shows a one-line summary, not the whole reference.
+    let summary = cli.render_help().to_string();
+    let run = summary
+        .lines()
+        .find(|l| l.trim_start().starts_with("run "))
+        .unwrap();
+    assert!(run.len() < 100, "{run}");
+}
+
+#[test]
 fn watch_interval_is_bounded_to_an_hour() {
     let parse =
         |ms: &str| Cli::try_parse_from(["hostctl", "watch", "--readset", "2", "--interval-ms", ms]);

@@ -654,7 +654,7 @@ impl From<HostError> for Why {
     }
 }
 
-const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
+pub(crate) const COMMANDS: &str = "reset | calibrate | write DEV REG VALUE | drive W|all SPEED | \
 steer W|all DEG | turn DEG | pointturn | rotate SPEED | lift W|all DEG | stop | wait SECONDS | \
 watch SECONDS [EVERY] | show DEV REG… | say TEXT";
 
