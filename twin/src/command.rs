@@ -143,6 +143,11 @@ const DROP: &str = "drop-serial N [to-master|to-host], or drop-serial clear";
 const RC: &str = "rc on|off, or rc CH US   (CH = 0 drive, 1 steer, 2 mode; US = 500..2500)";
 const DTR: &str = "dtr low|high";
 
+/// Every command's usage, as its errors give it: `twin inject --help` lists each form.
+pub const USAGES: [&str; 12] = [
+    STALL, CUT, RESTORE, REBOOT, SPIKE, SENSOR, TEMP, DROP, RC, "status", "time", DTR,
+];
+
 fn number<T: std::str::FromStr>(word: &str, what: &'static str) -> Result<T, CommandError> {
     // A Unicode minus (U+2212, as the docs print "−55") reads as the ASCII one.
     word.replace('\u{2212}', "-")

@@ -77,10 +77,27 @@ struct RunArgs {
 
 #[derive(Subcommand, Debug)]
 enum Sub {
-    /// Send one command to a running twin and print its reply. Commands: stall W
-    /// [drive|steer|lift] on|off, cut N, restore N, reboot N, spike W drive|steer|lift AMPS
-    /// MS, sensor I remove|restore, temp I CELSIUS, drop-serial N [to-master|to-host],
-    /// drop-serial clear, rc on|off, rc CH US, status, time.
+    /// Send one command (a fault, or a question) to a running twin and print its reply
+    ///
+    /// Commands (W: wheel 1..6; N: controller 1..9; I: temperature sensor, 0 ambient, 1..9):
+    ///   stall W [drive|steer|lift] on|off   block a wheel's motor (its drive unless named)
+    ///   cut N                               take controller N off the I2C bus
+    ///   restore N                           put it back
+    ///   reboot N                            reset controller N, as a brown-out does
+    ///   spike W drive|steer|lift AMPS MS    a current spike (0 < AMPS <= 10.24, 0 < MS <= 60000)
+    ///   sensor I remove|restore             take sensor I off the OneWire bus, or put it back
+    ///   temp I CELSIUS                      set what sensor I measures (-55..125)
+    ///   drop-serial N [to-master|to-host]   lose the next N bytes on the serial line (to the
+    ///                                       master unless told)
+    ///   drop-serial clear                   cancel the losses still pending
+    ///   rc on|off                           switch the RC receiver on or off
+    ///   rc CH US                            an RC channel's pulse (CH 0 drive, 1 steer, 2 mode;
+    ///                                       500..2500 µs)
+    ///   status                              the faults in force, each sensor, each wheel's state,
+    ///                                       and each board's LEDs and bridges
+    ///   time                                emulated µs since power-up
+    ///   dtr low|high                        the host's DTR line, which a pty cannot carry
+    #[command(verbatim_doc_comment)]
     Inject {
         /// The running twin's pty link [default: the one hostctl uses].
         #[arg(long, value_name = "PATH")]
@@ -263,4 +280,40 @@ fn report_speed(rover: &Rover, emulated: Duration, wall: Duration, paced: bool) 
         wall.as_secs_f64(),
         rover.speed().describe(paced)
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn inject_help_lists_every_form_of_every_command_on_a_line_of_its_own() {
+        let mut cli = Args::command();
+        let help = cli
+            .find_subcommand_mut("inject")
+            .expect("the inject subcommand")
+            .render_long_help()
+            .to_string();
+        let forms: Vec<&str> = twin::command::USAGES
+            .iter()
+            .flat_map(|u| u.split("   (").next().unwrap_or(u).split(", or "))
+            .collect();
+        assert_eq!(forms.len(), 14, "{forms:?}");
+        for form in forms {
+            assert!(
+                help.lines().any(|l| l
+                    .strip_prefix("  ")
+                    .and_then(|l| l.strip_prefix(form))
+                    .is_some_and(|rest| rest.starts_with("  "))),
+                "no line for `{form}` in:\n{help}"
+            );
+        }
+        let summary = cli.render_help().to_string();
+        let inject = summary
+            .lines()
+            .find(|l| l.trim_start().starts_with("inject "))
+            .expect("inject in the command list");
+        assert!(inject.len() < 100, "{inject}");
+    }
 }
