@@ -4,8 +4,8 @@
 //!   first write) for [`PING_LIT_MS`]. The original counted 100 loop passes; a fixed
 //!   time gives the same brief flash whatever the loop's speed.
 //! - **D7** (blue, under the chassis): lit while the remote control's link is up.
-//!   Otherwise, once the master has raised an exception (boot excluded), it flashes the
-//!   type code of the last one raised until the next reboot, as the original did (a
+//!   Once the master has raised an exception (boot excluded), it flashes the type code
+//!   of the last one raised instead, link or not, until the next reboot, as the original did (a
 //!   master reset does not stop it): [`FLASH_PERIOD_MS`] per pulse, lit for the first
 //!   [`FLASH_ON_MS`], as many pulses as the code, in a cycle of [`FLASH_CYCLE_MS`]. The
 //!   original's cycle held at most 10 pulses (in 80,001 passes of 8,000 each); this one
@@ -85,7 +85,12 @@ impl Leds {
                 self.ping_at = None;
             }
         }
-        self.blue.set(rc_up || flash_lit(self.code, now));
+        // The type code, once one was raised, takes the place of the link's light.
+        self.blue.set(if self.code == 0 {
+            rc_up
+        } else {
+            flash_lit(self.code, now)
+        });
     }
 }
 

@@ -6,7 +6,7 @@
 mod master_support;
 
 use harness::uno;
-use master_support::Rig;
+use master_support::{Options, Rig};
 
 /// Rising edges of a pin trace, with how long each stayed high (µs).
 fn pulses(trace: &[(u64, bool)]) -> Vec<(f64, f64)> {
@@ -72,4 +72,47 @@ fn d7_flashes_the_type_code_of_the_raised_exception() {
             assert!((127_000.0..130_000.0).contains(width), "lit {width} us");
         }
     }
+}
+
+#[test]
+fn d7_flashes_the_type_code_instead_of_showing_the_remote_controls_link() {
+    // Reference §6.5: lit while the RC link is up; after an exception raised on the
+    // master it flashes the type code *instead*.
+    let mut rig = Rig::with(Options {
+        rc: true,
+        ..Options::default()
+    });
+    let rc = rig.rc.take().expect("the receiver");
+    rc.turn_on();
+    for addr in 1..=9 {
+        rig.slave(addr).in_exception = false;
+    }
+    // The link counts from 5 s after boot; the pings start then too.
+    rig.run_to(5_300_000);
+    rig.avr().trace_pin(uno::D7);
+    rig.run_to(5_900_000);
+    assert!(
+        pulses(&rig.avr().pin_trace(uno::D7)).is_empty() && rig.avr().pin(uno::D7),
+        "solid while the link is up and nothing was raised"
+    );
+    // A short (type 8) on slave 4, found by the next ping.
+    rig.slave(4).raise(8, 0);
+    const CYCLE_US: u64 = 8_192_000;
+    let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
+    rig.run_to(start - 1_000);
+    rig.avr().trace_pin(uno::D7);
+    rig.run_to(start + CYCLE_US - 1_000);
+    let lit = pulses(&rig.avr().pin_trace(uno::D7));
+    assert_eq!(lit.len(), 8, "{lit:?}");
+    // The service loop sets the LED between the remote control's passes, each a round of
+    // I2C writes: up to 3 ms late here.
+    for (i, (at, width)) in lit.iter().enumerate() {
+        let expected = start as f64 + 512_000.0 * i as f64;
+        assert!((at - expected).abs() < 4_000.0, "pulse {i} at {at} us");
+        assert!((124_000.0..132_000.0).contains(width), "lit {width} us");
+    }
+    // The master latched it: with the link down for a second it answers the PC again.
+    rc.turn_off();
+    rig.run_us(1_200_000);
+    assert_eq!(rig.master_exception(), 0x0408);
 }

@@ -121,14 +121,24 @@ fn full_forward_and_a_held_turn_drive_the_six_boards() {
         speeds.len(),
         off.len()
     );
-    // A pass every 5 ms; an edge stamped late by a OneWire slot (at most ~13 µs) could
-    // move one frame's speed, but hardly any.
+    // A pass every 5 ms; an edge stamped late by a OneWire slot (at most ~13 µs) moves a
+    // frame's speed by a step or two of the pulse's measurement (0xa978: 1296 ticks/s). How
+    // many frames it hits depends on how the temperature reads fall against the RC frames,
+    // which moves with the image's code layout (20 or 28 of 1090 passes in two builds):
+    // few, and none by more than 8 ticks/s.
     assert!(
         (1000..1150).contains(&speeds.len()),
         "{} passes",
         speeds.len()
     );
-    assert!(off.len() * 50 <= speeds.len(), "{} passes off", off.len());
+    assert!(off.len() * 25 <= speeds.len(), "{} passes off", off.len());
+    for v in &off {
+        let raw = u16::from_le_bytes([v[0], v[1]]);
+        assert!(
+            raw.abs_diff(0xa998) <= 0x40,
+            "{raw:#06x}: more than 8 ticks/s off 1300"
+        );
+    }
     // θo = −30°: wheels 1, 2, 5, 6 = −θo, −θi, θo, θi; 3 and 4 straight.
     let angles = wheel_angles(-3000, false);
     let theta_i = (26.5f64 / (26.5 * (30f64.to_radians().tan()).recip() + 42.0)).atan();
