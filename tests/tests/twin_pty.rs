@@ -661,9 +661,9 @@ fn a_run_that_ends_with_a_board_faulted_says_which_wheel_and_fails() {
         );
     }
     assert!(
-        view.contains(&format!(
-            r#""master_state":{{"exception":{{"type":8,"name":"SHORTOC","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
-        )),
+        view.contains(
+            r#""master_state":{"exception":{"type":8,"name":"SHORTOC","controller":4,"motor":0,"wheel":3,"wheel_motor":"drive""#
+        ),
         "{view}"
     );
     // And the failure as the last line, with what held the rover stopped.
