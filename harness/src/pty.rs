@@ -53,6 +53,10 @@ pub struct Pty {
     dtr_high: bool,
     /// DTR moved in a way that resets an Uno since [`Pty::take_dtr_reset`] last said so.
     dtr_reset: bool,
+    /// HUPCL as last seen while a host had the port open: what a close that the next
+    /// program's open follows at once is judged by, since by the time the close is seen
+    /// the port's settings may be that program's.
+    hupcl_while_open: bool,
 }
 
 /// The chip side of a [`Pty`]: where the host's bytes go and where the firmware's come
@@ -109,6 +113,7 @@ impl Pty {
             host_opens: 0,
             dtr_high: false,
             dtr_reset: false,
+            hupcl_while_open: true,
         })
     }
 
@@ -135,31 +140,50 @@ impl Pty {
 
     /// Counts the opens and closes inotify has seen and follows DTR through them.
     fn poll_watch(&mut self) {
-        while let Ok(events) = self.watch.read_events() {
-            if events.is_empty() {
+        let mut events = Vec::new();
+        while let Ok(batch) = self.watch.read_events() {
+            if batch.is_empty() {
                 break;
             }
-            for e in events {
-                if e.mask.contains(AddWatchFlags::IN_OPEN) {
-                    // Only the first open can raise DTR: a second program opening a port
-                    // already open (`stty -F`, a second hostctl) resets nothing.
-                    if self.host_opens == 0 {
-                        self.pending.clear();
-                        if !self.dtr_high {
-                            self.dtr_high = true;
-                            self.dtr_reset = true;
-                        }
+            events.extend(batch.into_iter().map(|e| e.mask));
+        }
+        for (i, mask) in events.iter().enumerate() {
+            if mask.contains(AddWatchFlags::IN_OPEN) {
+                // Only the first open can raise DTR: a second program opening a port
+                // already open (`stty -F`, a second hostctl) resets nothing.
+                if self.host_opens == 0 {
+                    self.pending.clear();
+                    if !self.dtr_high {
+                        self.dtr_high = true;
+                        self.dtr_reset = true;
                     }
-                    self.host_opens += 1;
-                } else {
-                    self.host_opens = self.host_opens.saturating_sub(1);
-                    // A host that dropped DTR already ([`Pty::set_dtr`]) makes no second edge.
-                    if self.host_opens == 0 && self.dtr_high && self.hangs_up_on_close() {
+                }
+                self.host_opens += 1;
+            } else {
+                self.host_opens = self.host_opens.saturating_sub(1);
+                if self.host_opens == 0 && self.dtr_high {
+                    // The port's settings now are the closer's, unless another program
+                    // has opened it since (and may have changed them): then the last ones
+                    // seen while the closer had it.
+                    let reopened = events[i + 1..]
+                        .iter()
+                        .any(|m| m.contains(AddWatchFlags::IN_OPEN));
+                    let hupcl = if reopened {
+                        self.hupcl_while_open
+                    } else {
+                        self.hangs_up_on_close()
+                    };
+                    // A host that dropped DTR already ([`Pty::set_dtr`]) makes no second
+                    // edge.
+                    if hupcl {
                         self.dtr_high = false;
                         self.dtr_reset = true;
                     }
                 }
             }
+        }
+        if self.host_opens > 0 {
+            self.hupcl_while_open = self.hangs_up_on_close();
         }
     }
 

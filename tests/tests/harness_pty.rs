@@ -108,3 +108,47 @@ fn serve_never_runs_ahead_of_the_wall_clock() {
         "only {emulated} µs emulated in {real} µs"
     );
 }
+
+/// Sets or clears HUPCL on an open port, as `stty -F PORT [-]hupcl` does.
+fn set_hupcl(port: &std::fs::File, on: bool) {
+    use nix::sys::termios::{tcgetattr, tcsetattr, ControlFlags, SetArg};
+    let mut termios = tcgetattr(port).expect("the port's settings");
+    termios.control_flags.set(ControlFlags::HUPCL, on);
+    tcsetattr(port, SetArg::TCSANOW, &termios).expect("settings set");
+}
+
+#[test]
+fn a_close_with_hupcl_resets_even_when_the_next_program_clears_it_at_once() {
+    let mut pty = Pty::open().unwrap();
+    let first = std::fs::File::open(pty.path()).unwrap();
+    assert!(pty.take_dtr_reset(), "the first open raises DTR");
+    // The first program closes with HUPCL set (the port's default); the next opens and
+    // clears it before the pty has looked at either.
+    drop(first);
+    let next = std::fs::File::open(pty.path()).unwrap();
+    set_hupcl(&next, false);
+    assert!(
+        pty.take_dtr_reset(),
+        "the close dropped DTR and the open raised it: the Uno resets"
+    );
+    // Its own close without HUPCL leaves DTR up, so neither it nor the next open resets.
+    drop(next);
+    assert!(!pty.take_dtr_reset());
+    let last = std::fs::File::open(pty.path()).unwrap();
+    assert!(!pty.take_dtr_reset());
+    // One that clears HUPCL and closes before the pty looks resets nothing either...
+    set_hupcl(&last, true);
+    assert!(!pty.take_dtr_reset());
+    set_hupcl(&last, false);
+    drop(last);
+    assert!(!pty.take_dtr_reset());
+    // ...and one that sets it does.
+    let again = std::fs::File::open(pty.path()).unwrap();
+    assert!(
+        !pty.take_dtr_reset(),
+        "DTR is still up: the open raises nothing"
+    );
+    set_hupcl(&again, true);
+    drop(again);
+    assert!(pty.take_dtr_reset());
+}
