@@ -191,9 +191,31 @@ fn a_byte_with_a_framing_error_skips_the_rest_of_its_frame_until_the_line_is_qui
 }
 
 #[test]
+fn frames_sent_without_waiting_for_replies_are_all_answered_up_to_63_bytes() {
+    // The Uno's serial core held 63 bytes for the original: a program that sends that many
+    // bytes of frames in one write gets every reply. Each reply here is 40 bytes (a set of
+    // 20 two-byte registers, as the library's set 0), 3.5 ms on the line, while the next
+    // frames keep coming in.
+    let mut rig = master_support::Rig::new();
+    let mut define = vec![23, 0x14, 0x00];
+    define.extend([id::REG_STATUS; 20]);
+    assert_eq!(rig.exchange(&define, 1), [20]);
+    let frames: Vec<u8> = (0..21).flat_map(|_| [0x03, 0x13, 0x00]).collect();
+    assert_eq!(frames.len(), 63);
+    let replies = rig.exchange(&frames, 21 * 40);
+    assert_eq!(replies.len(), 840);
+    // STATUS: a DS board in its boot state, twenty times a reply.
+    let status: Vec<u8> = [0x09, 0x00].repeat(20);
+    for (i, reply) in replies.chunks(40).enumerate() {
+        assert_eq!(reply, status, "reply {i}");
+    }
+    assert_eq!(rig.master_regs(&[12, 13], 3), [0, 0, 0], "no error counted");
+}
+
+#[test]
 fn frames_sent_without_waiting_for_replies_lose_bytes_and_none_of_the_rest_runs() {
     // Two 255-byte frames in one write, each 126 writes of REG_DEBUGLED on controller 1:
-    // the first takes ~13 ms of bus time while the second's bytes overflow the 32-byte
+    // the first takes ~13 ms of bus time while the second's bytes overflow the 64-byte
     // receive queue. The lost byte is an overrun (code 14), and the rest of the second
     // frame is skipped (its `04 05` pairs would otherwise run as read-set frames).
     let mut rig = master_support::Rig::new();
