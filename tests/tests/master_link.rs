@@ -151,6 +151,42 @@ fn bad_input_gets_defined_answers_and_changes_nothing() {
 }
 
 #[test]
+fn each_error_reply_of_protocol_md_names_its_code_in_lasterror() {
+    // docs/protocol.md's bad-input table, the rows the test above leaves out: each frame
+    // gets its reply, and LASTERROR (master id 12) then holds its code.
+    let (mut avr, _) = boot();
+    let cases: [(&[u8], Option<u8>, u8); 8] = [
+        // L = 2: the frame ends after a write's header.
+        (&[0x02, 0x12], Some(0x81), 1),
+        // A read with a byte more than its set number.
+        (&[0x04, 0x03, 0x02, 0x00], None, 5),
+        // A write to an id no DS board has.
+        (&[0x05, 0x12, 0x01, 0x7f, 0x00], Some(0x84), 4),
+        // A write with fewer entries than its count says.
+        (&[0x06, 0x12, 0x02, 0x09, 0xff, 0x7f], Some(0x85), 5),
+        // DS id 45 sized as the original's table sized it (one byte): FAULTTIME takes two.
+        (&[0x05, 0x12, 0x01, 0x2d, 0x00], Some(0x85), 5),
+        // Master id 12, just past the original's table, is the read-only LASTERROR.
+        (&[0x05, 0x02, 0x01, 0x0c, 0x00], Some(0x89), 9),
+        // Set read set 8.
+        (&[0x04, 0x14, 0x08, 0x01], Some(0x86), 6),
+        // An id the master lacks in a read set reads as one byte `cd`.
+        (&[0x04, 0x04, 0x05, 0x30], Some(0x01), 0),
+    ];
+    for (frame, reply, code) in cases {
+        match reply {
+            Some(byte) => assert_eq!(exchange(&mut avr, frame, 1), [byte], "{frame:02x?}"),
+            None => silence(&mut avr, frame),
+        }
+        if code != 0 {
+            assert_eq!(read_master(&mut avr, &[12], 1), [code], "{frame:02x?}");
+        }
+    }
+    assert_eq!(exchange(&mut avr, &[0x03, 0x03, 0x05], 1), [0xcd]);
+    assert_eq!(read_master(&mut avr, &[12, 13], 3), [10, 8, 0]);
+}
+
+#[test]
 fn a_frame_that_stops_arriving_is_dropped_and_the_link_recovers() {
     let (mut avr, _) = boot();
     // Garbage: a length byte of 0x40 and two more bytes, then nothing for 100 ms.
