@@ -6,11 +6,11 @@
 //! - **D7** (blue, under the chassis): lit while the remote control's link is up.
 //!   Once the master has raised an exception (boot excluded), it flashes the type code
 //!   of the last one raised instead, link or not, until the next reboot, as the
-//!   original did (a master reset does not stop it): [`FLASH_PERIOD_MS`] per pulse, lit
-//!   for the first [`FLASH_ON_MS`], as many pulses as the code, in a cycle of
-//!   [`FLASH_CYCLE_MS`]. The original's cycle held at most 10 pulses (in 80,001 passes of 8,000 each); this one
-//!   holds 16, so the new type 11 (slave silent) shows as 11, distinct from 10. All
-//!   three are powers of two, so the pattern needs no division.
+//!   original did (a master reset does not stop it): [`FLASH_PERIOD_MS`] per pulse,
+//!   lit for the first [`FLASH_ON_MS`], as many pulses as the code, in a cycle of
+//!   [`FLASH_CYCLE_MS`]. The original's cycle held at most 10 pulses (in 80,001 passes
+//!   of 8,000 each); this one holds 16, so the new type 11 (slave silent) shows as 11,
+//!   distinct from 10. All three are powers of two, so the pattern needs no division.
 
 use drivers::pin::{Output, PORTB, PORTD};
 use shared::exception::{ExceptionType, MasterLatch};
