@@ -208,7 +208,14 @@ fn read_only_registers_ignore_writes() {
                     (1..=2).contains(&ms.0) && (1..=2).contains(&ms.1),
                     "register {reg} of {addr}: {before:#x} then {after:#x}"
                 );
-            } else if reg != id::REG_TIMER && reg != id::REG_INTERVALI2C {
+            } else if reg == id::REG_INTERVALI2C {
+                // The µs between the last two control ticks: the 1-ms tick, give or take
+                // its start latency.
+                assert!(
+                    (950..=1050).contains(&after),
+                    "INTERVALI2C of {addr}: {after} µs"
+                );
+            } else if reg != id::REG_TIMER {
                 // Every other monitoring value is constant at rest in the boot exception.
                 assert_eq!(after, before, "register {reg} of {addr}");
             }
@@ -266,6 +273,19 @@ fn missing_ids_read_0xcd_and_runs_are_contiguous() {
     for reg in [len, len + 1, 100, 255] {
         assert_eq!(r.read_bytes(reg, 3), vec![0xcd; 3], "id {reg}");
     }
+    // A write to one changes nothing: the original forced the id to 0, so this `02` was a
+    // REG_RESET hard reset.
+    let (timer, status) = (r.read_raw(id::REG_TIMER), r.read_raw(id::REG_STATUS));
+    for reg in [len, 100, 255] {
+        r.bus.write(r.addr, &[reg, 0x02]).unwrap();
+    }
+    r.run_us(100_000);
+    let uptime = r.read_raw(id::REG_TIMER).wrapping_sub(timer);
+    assert!(
+        (100..=102).contains(&uptime),
+        "no reboot: {uptime} ms later"
+    );
+    assert_eq!(r.read_raw(id::REG_STATUS), status);
     // The last registers then past the end.
     r.write_raw(id::REGDS_FAULTTIME, 0x0123);
     r.write_raw(id::REGDS_DRIVE_MODE, 1);
