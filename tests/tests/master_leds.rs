@@ -25,6 +25,29 @@ fn pulses(trace: &[(u64, bool)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// D7's pulses over the next whole cycle of the type code, with the cycle's start (µs):
+/// cycles start at multiples of 8.192 s of the master's clock (which starts at load).
+fn next_cycle(rig: &mut Rig) -> (f64, Vec<(f64, f64)>) {
+    const CYCLE_US: u64 = 8_192_000;
+    let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
+    rig.run_to(start - 1_000);
+    rig.avr().trace_pin(uno::D7);
+    rig.run_to(start + CYCLE_US - 1_000);
+    (start as f64, pulses(&rig.avr().pin_trace(uno::D7)))
+}
+
+/// Checks a cycle's pulses are type `code`'s: one every 512 ms from its start, each lit
+/// 128 ms, a pulse's start at most `late_us` off (its end as late, or half as early).
+fn assert_type_code(start: f64, lit: &[(f64, f64)], code: u8, late_us: f64) {
+    assert_eq!(lit.len(), usize::from(code), "type {code}: {lit:?}");
+    for (i, (at, width)) in lit.iter().enumerate() {
+        let expected = start + 512_000.0 * i as f64;
+        assert!((at - expected).abs() < late_us, "pulse {i} at {at} us");
+        let lit_range = 128_000.0 - late_us / 2.0..128_000.0 + late_us;
+        assert!(lit_range.contains(width), "lit {width} us");
+    }
+}
+
 #[test]
 fn d13_lights_for_100_ms_at_each_ping() {
     let mut rig = Rig::new();
@@ -56,21 +79,10 @@ fn d7_flashes_the_type_code_of_the_raised_exception() {
             rig.master_exception(),
             u16::from(slave) << 8 | u16::from(code)
         );
-        // A master reset does not stop the flashing. Watch the next whole cycle: cycles
-        // start at multiples of 8.192 s of the master's clock (which starts at load).
+        // A master reset does not stop the flashing.
         rig.reset_master();
-        const CYCLE_US: u64 = 8_192_000;
-        let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
-        rig.run_to(start - 1_000);
-        rig.avr().trace_pin(uno::D7);
-        rig.run_to(start + CYCLE_US - 1_000);
-        let lit = pulses(&rig.avr().pin_trace(uno::D7));
-        assert_eq!(lit.len(), usize::from(code), "type {code}: {lit:?}");
-        for (i, (at, width)) in lit.iter().enumerate() {
-            let expected = start as f64 + 512_000.0 * i as f64;
-            assert!((at - expected).abs() < 2_000.0, "pulse {i} at {at} us");
-            assert!((127_000.0..130_000.0).contains(width), "lit {width} us");
-        }
+        let (start, lit) = next_cycle(&mut rig);
+        assert_type_code(start, &lit, code, 2_000.0);
     }
 }
 
@@ -95,22 +107,11 @@ fn d7_flashes_the_type_code_instead_of_showing_the_remote_controls_link() {
         pulses(&rig.avr().pin_trace(uno::D7)).is_empty() && rig.avr().pin(uno::D7),
         "solid while the link is up and nothing was raised"
     );
-    // A short (type 8) on slave 4, found by the next ping.
+    // A short (type 8) on slave 4, found by the next ping. The service loop sets the LED
+    // between the remote control's passes, each a round of I2C writes: up to 3 ms late.
     rig.slave(4).raise(8, 0);
-    const CYCLE_US: u64 = 8_192_000;
-    let start = rig.micros().div_ceil(CYCLE_US) * CYCLE_US;
-    rig.run_to(start - 1_000);
-    rig.avr().trace_pin(uno::D7);
-    rig.run_to(start + CYCLE_US - 1_000);
-    let lit = pulses(&rig.avr().pin_trace(uno::D7));
-    assert_eq!(lit.len(), 8, "{lit:?}");
-    // The service loop sets the LED between the remote control's passes, each a round of
-    // I2C writes: up to 3 ms late here.
-    for (i, (at, width)) in lit.iter().enumerate() {
-        let expected = start as f64 + 512_000.0 * i as f64;
-        assert!((at - expected).abs() < 4_000.0, "pulse {i} at {at} us");
-        assert!((124_000.0..132_000.0).contains(width), "lit {width} us");
-    }
+    let (start, lit) = next_cycle(&mut rig);
+    assert_type_code(start, &lit, 8, 4_000.0);
     // The master latched it: with the link down for a second it answers the PC again.
     rc.turn_off();
     rig.run_us(1_200_000);
