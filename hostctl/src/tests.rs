@@ -1724,15 +1724,19 @@ fn watch_count_0_is_refused_before_the_port_opens() {
     );
 }
 
-#[test]
-fn readset_help_says_the_set_ends_with_the_session() {
+/// `hostctl SUBCOMMAND --help` as printed.
+fn long_help(subcommand: &str) -> String {
     use clap::CommandFactory;
     let mut cli = Cli::command();
-    let help = cli
-        .find_subcommand_mut("readset")
+    cli.find_subcommand_mut(subcommand)
         .unwrap()
         .render_long_help()
-        .to_string();
+        .to_string()
+}
+
+#[test]
+fn readset_help_says_the_set_ends_with_the_session() {
+    let help = long_help("readset");
     assert!(
         help.contains(
             "The set is gone when this command ends: closing the port resets the master, which \
@@ -1746,12 +1750,7 @@ fn readset_help_says_the_set_ends_with_the_session() {
 #[test]
 fn run_help_lists_every_script_command_on_a_line_of_its_own() {
     use clap::CommandFactory;
-    let mut cli = Cli::command();
-    let help = cli
-        .find_subcommand_mut("run")
-        .unwrap()
-        .render_long_help()
-        .to_string();
+    let help = long_help("run");
     // The script parser's own usage list, command by command.
     let usages: Vec<&str> = crate::cmd::script::COMMANDS.split(" | ").collect();
     assert_eq!(usages.len(), 14, "{usages:?}");
@@ -1765,7 +1764,7 @@ fn run_help_lists_every_script_command_on_a_line_of_its_own() {
         );
     }
     // The list of commands shows a one-line summary, not the whole reference.
-    let summary = cli.render_help().to_string();
+    let summary = Cli::command().render_help().to_string();
     let run = summary
         .lines()
         .find(|l| l.trim_start().starts_with("run "))
