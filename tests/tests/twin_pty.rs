@@ -252,9 +252,7 @@ fn close_and_see_every_wheel_coast(
 #[test]
 fn closing_the_port_stops_a_rover_left_driving() {
     let twin = Linked::start("twin-hangup-test");
-    let link = twin.link.clone();
-    let (control, port) = (twin.control.clone(), twin.port.clone());
-    let mut clock = hostctl::twin::clock_for(&port);
+    let mut clock = hostctl::twin::clock_for(&twin.port);
 
     // A script that ends with the rover driving, run over a port this test holds open.
     let (serial, driving) = leave_driving(&twin, &mut *clock);
@@ -267,7 +265,7 @@ fn closing_the_port_stops_a_rover_left_driving() {
     let file = std::fs::OpenOptions::new()
         .read(true)
         .write(true)
-        .open(&link)
+        .open(&twin.link)
         .unwrap();
     let mut termios = nix::sys::termios::tcgetattr(&file).unwrap();
     termios
@@ -275,19 +273,19 @@ fn closing_the_port_stops_a_rover_left_driving() {
         .remove(nix::sys::termios::ControlFlags::HUPCL);
     nix::sys::termios::tcsetattr(&file, nix::sys::termios::SetArg::TCSANOW, &termios).unwrap();
     clock.sleep(Duration::from_millis(700));
-    let opened = slave_resets(&control);
+    let opened = slave_resets(&twin.control);
     drop(file);
     clock.sleep(Duration::from_millis(700));
     assert_eq!(
-        slave_resets(&control),
+        slave_resets(&twin.control),
         opened,
         "no reset on a close without HUPCL"
     );
     // DTR stayed up, so the next open does not reset either (as on a USB serial port).
-    let again = std::fs::File::open(&link).unwrap();
+    let again = std::fs::File::open(&twin.link).unwrap();
     clock.sleep(Duration::from_millis(700));
     assert_eq!(
-        slave_resets(&control),
+        slave_resets(&twin.control),
         opened,
         "no reset on an open with DTR still up"
     );
@@ -332,20 +330,22 @@ fn hostctl_resets_the_master_at_its_open_and_close_while_another_program_holds_t
 #[test]
 fn a_second_open_of_a_port_in_use_resets_nothing() {
     let twin = Linked::start("twin-second-open");
-    let link = twin.link.clone();
-    let (control, port) = (twin.control.clone(), twin.port.clone());
-    let mut clock = hostctl::twin::clock_for(&port);
-    let mut serial = hostctl::link::open_serial(&port, Duration::ZERO).expect("the banner");
+    let mut clock = hostctl::twin::clock_for(&twin.port);
+    let mut serial = hostctl::link::open_serial(&twin.port, Duration::ZERO).expect("the banner");
     clock.sleep(Duration::from_millis(300));
-    let before = slave_resets(&control);
+    let before = slave_resets(&twin.control);
 
     // `stty -F` or a second program opens the port and closes it again: on the Uno DTR
     // stays as the first program holds it, so nothing reboots.
-    let other = std::fs::File::open(&link).unwrap();
+    let other = std::fs::File::open(&twin.link).unwrap();
     clock.sleep(Duration::from_millis(500));
     drop(other);
     clock.sleep(Duration::from_millis(500));
-    assert_eq!(slave_resets(&control), before, "no reset by a second open");
+    assert_eq!(
+        slave_resets(&twin.control),
+        before,
+        "no reset by a second open"
+    );
     // The first program's session goes on: device 0 answers its frames.
     assert_eq!(
         serial.transact(0, &[0x04, 0x04, 0x06, 0x0b], 1).unwrap(),
